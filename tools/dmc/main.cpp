@@ -1,0 +1,26 @@
+// dmc: the command line front end of the dynamic mesh codec.
+#include <CLI/CLI.hpp>
+#include <vector>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"dmc: compress, decode, measure and process dynamic meshes"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "dmc 0.1.0");
+
+  using AddCommand = dmc::cli::Command (*)(CLI::App&);
+  // The subcommand table, in the order --help lists them.
+  const AddCommand table[] = {
+      dmc::cli::AddInfoCommand,    dmc::cli::AddConvertCommand,   dmc::cli::AddSynthCommand,
+      dmc::cli::AddMetricsCommand, dmc::cli::AddLaplacianCommand,
+  };
+  std::vector<dmc::cli::Command> commands;
+  for (AddCommand add : table) commands.push_back(add(app));
+
+  CLI11_PARSE(app, argc, argv);
+  for (const auto& command : commands) {
+    if (command.app->parsed()) return command.run();
+  }
+  return 1;
+}
