@@ -1,0 +1,84 @@
+// Decoding .dmc streams. Links no encoder code.
+//
+// Contract: every function is safe on untrusted input. Sizes and indices are checked before use,
+// allocations are bounded by what the stream's own sizes justify, and a damaged stream yields
+// kCorruptStream (checksum mismatch, impossible value), kTruncatedStream (ends early) or
+// kUnsupported (a newer version or an unknown method), naming the chunk and field at fault.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+#include "dmc/topology.h"
+
+namespace dmc {
+
+struct SegmentInfo {
+  int first_frame = 0;
+  int frame_count = 0;
+  int rank = 0;
+  std::string operator_name;  // registry name of the operator
+  int operator_id = 0;        // its frozen wire ID
+  int basis_bits = 0;
+  int weight_bits = 0;
+  int anchor_count = 0;
+  double residual_step = 0.0;
+  double anchor_step = 0.0;
+  // Payload bytes (with chunk framing) per syntax element.
+  uint64_t header_bytes = 0, mean_bytes = 0, basis_bytes = 0, operator_bytes = 0, anchor_bytes = 0,
+           residual_bytes = 0;
+};
+
+struct StreamInfo {
+  int version_major = 0;
+  int version_minor = 0;
+  int vertex_count = 0;
+  int triangle_count = 0;
+  int frame_count = 0;
+  double frame_rate = 0.0;
+  bool reordered = false;  // vertex order is the codec's own, not the input's
+  std::string name;
+  uint64_t total_bytes = 0;
+  uint64_t header_bytes = 0;
+  uint64_t connectivity_bytes = 0;
+  std::vector<SegmentInfo> segments;
+};
+
+// Parses the container and every chunk header (verifying checksums) without reconstructing.
+StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream);
+
+// Decodes a whole stream.
+StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream);
+StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path);
+
+// Segment-by-segment decoding for bounded memory and seeking: Open parses the container; each
+// DecodeSegment(i) returns the frames of segment i alone (with the shared triangles).
+class Decoder {
+ public:
+  Status Open(std::span<const uint8_t> stream);
+  const StreamInfo& info() const { return info_; }
+  int segment_count() const { return static_cast<int>(info_.segments.size()); }
+  StatusOr<MeshSequence> DecodeSegment(int index) const;
+
+ private:
+  struct ChunkRef {
+    uint8_t type;
+    size_t offset;
+    size_t size;
+  };
+  std::span<const uint8_t> stream_;
+  StreamInfo info_;
+  Triangles triangles_;
+  MeshTopology topology_;
+  std::vector<int32_t> vertex_order_;  // residual coding order, shared by all segments
+  std::vector<std::vector<ChunkRef>> segment_chunks_;
+};
+
+StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path);
+
+}  // namespace dmc

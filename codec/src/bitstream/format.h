@@ -1,0 +1,79 @@
+// The .dmc container and segment syntax shared by the encoder and the decoder.
+// Normative description: bitstream-spec/dmc-format.md. Every constant here is frozen per version.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dmc::format {
+
+inline constexpr std::array<uint8_t, 4> kMagic = {'D', 'M', 'C', 0x1A};
+inline constexpr uint8_t kVersionMajor = 1;
+inline constexpr uint8_t kVersionMinor = 0;
+
+// Chunk types (frozen wire IDs).
+enum class ChunkType : uint8_t {
+  kSequenceHeader = 1,  // once, first
+  kConnectivity = 2,    // once, second
+  kSegmentHeader = 3,   // starts a segment
+  kMean = 4,            // the segment's mean trajectory
+  kBasis = 5,           // the segment's quantised PCA basis
+  kOperator = 6,        // operator side information (DDL weights, reference frame)
+  kAnchors = 7,         // anchor vertex indices and coefficients
+  kResiduals = 8,       // quantised delta-trajectories
+  kEnd = 15,            // last chunk; payload: varint chunk count before it
+};
+
+// Connectivity coding methods (frozen).
+enum class ConnectivityMethod : uint8_t {
+  kIndexed = 0,  // triangles in input order, range-coded index deltas
+};
+
+// Limits a decoder enforces before allocating (a stream exceeding them is corrupt).
+inline constexpr uint64_t kMaxVertices = 1u << 26;
+inline constexpr uint64_t kMaxTriangles = 1u << 27;
+inline constexpr uint64_t kMaxFrames = 1u << 20;
+inline constexpr uint64_t kMaxSegmentFrames = 4096;
+inline constexpr uint64_t kMaxRank = 1024;
+inline constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 32;
+inline constexpr uint32_t kMaxNameLength = 256;
+
+struct SequenceHeader {
+  uint32_t vertex_count = 0;
+  uint32_t triangle_count = 0;
+  uint32_t frame_count = 0;
+  uint32_t segment_count = 0;
+  double frame_rate = 0.0;
+  uint8_t flags = 0;  // bit 0: vertex order is the codec's own (reordered); others MUST be 0
+  std::string name;
+};
+inline constexpr uint8_t kFlagReordered = 1;
+
+struct SegmentHeader {
+  uint32_t first_frame = 0;
+  uint32_t frame_count = 0;
+  uint32_t rank = 0;        // PCA basis vectors kept (0 allowed: mean only)
+  uint8_t operator_id = 0;  // OperatorId wire value
+  uint8_t basis_bits = 10;  // basis samples quantised to 2^(bits-1)-1 levels per sign
+  uint8_t weight_bits = 8;  // DDL weights in units of 2^-weight_bits
+  uint32_t anchor_count = 0;
+  double mean_step = 0.0;      // quantisation step of the mean trajectory
+  double residual_step = 0.0;  // quantisation step of delta-trajectories
+  double anchor_step = 0.0;    // quantisation step of anchor coefficients
+  double anchor_weight = 1.0;  // weight of anchor rows in the normal equations
+};
+
+// Bits of a segment's chunks and of the whole stream, by syntax element (bytes incl. framing).
+struct ChunkSizes {
+  uint64_t header = 0;
+  uint64_t connectivity = 0;
+  uint64_t mean = 0;
+  uint64_t basis = 0;
+  uint64_t operator_info = 0;
+  uint64_t anchors = 0;
+  uint64_t residuals = 0;
+};
+
+}  // namespace dmc::format

@@ -1,0 +1,90 @@
+#include "bitstream/syntax.h"
+
+#include <xxhash.h>
+
+#include <algorithm>
+#include <bit>
+#include <set>
+
+namespace dmc::format {
+
+uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload) {
+  return XXH32(payload.data(), payload.size(), chunk_type);
+}
+
+std::vector<int32_t> BreadthFirstOrder(const MeshTopology& topology) {
+  const int v_count = topology.vertex_count;
+  std::vector<int32_t> order;
+  order.reserve(v_count);
+  std::vector<uint8_t> visited(v_count, 0);
+  for (int seed = 0; seed < v_count; ++seed) {
+    if (visited[seed]) continue;
+    visited[seed] = 1;
+    size_t head = order.size();
+    order.push_back(seed);
+    while (head < order.size()) {
+      const int v = order[head++];
+      for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+        const int n = topology.ring_neighbors[k];
+        if (!visited[n]) {
+          visited[n] = 1;
+          order.push_back(n);
+        }
+      }
+    }
+  }
+  return order;
+}
+
+std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology) {
+  const int v_count = topology.vertex_count;
+  std::vector<int32_t> known_count(v_count, 0);
+  std::vector<uint8_t> edge_known(topology.edge_count(), 0);
+  std::vector<uint8_t> visited(v_count, 0);
+  // Ordered by (-known, vertex): the first element is the next vertex to visit.
+  std::set<std::pair<int32_t, int32_t>> queue;
+  for (int v = 0; v < v_count; ++v) queue.insert({0, v});
+  std::vector<WeightVisit> schedule;
+  while (!queue.empty()) {
+    const int v = queue.begin()->second;
+    queue.erase(queue.begin());
+    visited[v] = 1;
+    WeightVisit visit{v, {}};
+    for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+      const int e = topology.ring_edges[k];
+      if (edge_known[e]) continue;
+      visit.unknown_edges.push_back(e);
+      edge_known[e] = 1;
+      const int n = topology.ring_neighbors[k];
+      if (!visited[n]) {
+        queue.erase({-known_count[n], n});
+        ++known_count[n];
+        queue.insert({-known_count[n], n});
+      }
+    }
+    if (!visit.unknown_edges.empty()) schedule.push_back(std::move(visit));
+  }
+  return schedule;
+}
+
+int64_t RoundDiv(int64_t numerator, int64_t denominator) {
+  const int64_t a = 2 * numerator + denominator;
+  const int64_t b = 2 * denominator;
+  int64_t q = a / b;
+  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;  // floor division
+  return q;
+}
+
+int ResidualColumnGroup(int column) {
+  if (column < 16) return column;
+  return std::min(16 + (column - 16) / 16, kResidualColumnGroups - 1);
+}
+
+int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours) {
+  if (coded_neighbours == 0 || abs_sum == 0) return 0;
+  const int64_t mean = (2 * abs_sum + coded_neighbours) / (2 * coded_neighbours);
+  return std::min<int>(kResidualActivityBuckets - 1,
+                       std::bit_width(static_cast<uint64_t>(mean)) + 1);
+}
+
+}  // namespace dmc::format

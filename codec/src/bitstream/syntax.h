@@ -1,0 +1,70 @@
+// Deterministic pieces of the segment syntax that the encoder and decoder must compute
+// identically: chunk checksums, vertex coding order, the DDL weight schedule and prediction, and
+// context selection. All integer or exactly specified; normative in bitstream-spec/dmc-format.md.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "dmc/topology.h"
+#include "entropy/adaptive_bit.h"
+
+namespace dmc::format {
+
+// XXH32 of a chunk payload, seeded with the chunk type value.
+uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload);
+
+// Vertex coding order: breadth-first search over one-rings (neighbours in ascending index order),
+// starting from the lowest-index unvisited vertex, until every vertex is visited.
+std::vector<int32_t> BreadthFirstOrder(const MeshTopology& topology);
+
+// The DDL weight schedule: vertices are visited by decreasing number of already-known incident
+// edge weights (ties: lowest vertex index); at its visit a vertex's still-unknown edges (in
+// one-ring order) are coded, all but the last explicitly, the last implied by the unit sum.
+struct WeightVisit {
+  int32_t vertex;
+  std::vector<int32_t> unknown_edges;  // edge indices; the last one is implied
+};
+std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology);
+
+// Rounded integer division a / b for b > 0, halves rounded towards +infinity:
+// floor((2a + b) / (2b)).
+int64_t RoundDiv(int64_t numerator, int64_t denominator);
+
+// Context sets for the quantised delta-trajectories: by PCA component and by the activity of the
+// already coded neighbours in the same component.
+inline constexpr int kResidualColumnGroups = 24;
+inline constexpr int kResidualActivityBuckets = 5;
+int ResidualColumnGroup(int column);
+// mean |q| over coded neighbours, bucketed: 0 if none or all zero, else min(4, bit_width of
+// the rounded mean absolute value ((2*sum + n) / (2n)) + 1).
+int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours);
+
+struct ResidualContexts {
+  IntegerContexts sets[kResidualColumnGroups][kResidualActivityBuckets];
+};
+
+inline constexpr int kBasisColumnGroups = 16;
+struct BasisContexts {
+  AdaptiveBit second_order[kBasisColumnGroups];
+  IntegerContexts first[kBasisColumnGroups];
+  IntegerContexts delta[kBasisColumnGroups];
+};
+
+// Weight residual contexts by the number of still-unknown edges at prediction time (1..4+).
+struct WeightContexts {
+  IntegerContexts by_unknown[4];
+};
+
+struct AnchorContexts {
+  IntegerContexts index_gap;
+  IntegerContexts value[kBasisColumnGroups];
+};
+
+struct MeanContexts {
+  IntegerContexts first;
+  IntegerContexts delta;
+};
+
+}  // namespace dmc::format

@@ -1,0 +1,270 @@
+#include "dmc/decoder.h"
+
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "bitstream/format.h"
+#include "bitstream/syntax.h"
+#include "decoder/segment_reconstruction.h"
+#include "decoder/syntax_reader.h"
+#include "dmc/operators.h"
+#include "entropy/byte_io.h"
+
+namespace dmc {
+namespace {
+
+struct RawChunk {
+  uint8_t type;
+  size_t offset;  // of the payload within the stream
+  size_t size;    // payload size
+  size_t framed_size;
+};
+
+std::string ChunkName(uint8_t type) {
+  switch (static_cast<format::ChunkType>(type)) {
+    case format::ChunkType::kSequenceHeader:
+      return "sequence header";
+    case format::ChunkType::kConnectivity:
+      return "connectivity";
+    case format::ChunkType::kSegmentHeader:
+      return "segment header";
+    case format::ChunkType::kMean:
+      return "mean";
+    case format::ChunkType::kBasis:
+      return "basis";
+    case format::ChunkType::kOperator:
+      return "operator";
+    case format::ChunkType::kAnchors:
+      return "anchors";
+    case format::ChunkType::kResiduals:
+      return "residuals";
+    case format::ChunkType::kEnd:
+      return "end";
+  }
+  return "unknown (" + std::to_string(type) + ")";
+}
+
+// Splits the stream into checksummed chunks: magic, version, reserved byte, then
+// (u8 type, varint size, payload, u32 XXH32) until the end chunk.
+StatusOr<std::vector<RawChunk>> SplitChunks(std::span<const uint8_t> stream, int* major,
+                                            int* minor) {
+  ByteReader reader(stream);
+  std::span<const uint8_t> magic;
+  DMC_RETURN_IF_ERROR(reader.GetBytes(format::kMagic.size(), &magic, "magic"));
+  if (!std::equal(magic.begin(), magic.end(), format::kMagic.begin())) {
+    return CorruptStreamError("not a .dmc stream (bad magic)");
+  }
+  uint8_t version_major, version_minor, reserved;
+  DMC_RETURN_IF_ERROR(reader.GetU8(&version_major, "major version"));
+  DMC_RETURN_IF_ERROR(reader.GetU8(&version_minor, "minor version"));
+  if (version_major != format::kVersionMajor) {
+    return UnsupportedError(
+        "format version " + std::to_string(version_major) + "." + std::to_string(version_minor) +
+        " is not supported (this decoder reads " + std::to_string(format::kVersionMajor) + ".x)");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetU8(&reserved, "reserved byte"));
+  if (reserved != 0) return CorruptStreamError("reserved header byte is not zero");
+  *major = version_major;
+  *minor = version_minor;
+
+  std::vector<RawChunk> chunks;
+  while (true) {
+    const size_t start = reader.position();
+    const std::string where = "chunk " + std::to_string(chunks.size());
+    uint8_t type = 0;
+    DMC_RETURN_IF_ERROR(reader.GetU8(&type, where + " type"));
+    uint64_t size = 0;
+    DMC_RETURN_IF_ERROR(reader.GetVarU(&size, where + " size"));
+    if (size > reader.remaining()) {
+      return TruncatedStreamError(where + " (" + ChunkName(type) + ") declares " +
+                                  std::to_string(size) + " bytes, only " +
+                                  std::to_string(reader.remaining()) + " remain");
+    }
+    std::span<const uint8_t> payload;
+    DMC_RETURN_IF_ERROR(reader.GetBytes(size, &payload, where + " payload"));
+    uint32_t checksum = 0;
+    DMC_RETURN_IF_ERROR(reader.GetU32(&checksum, where + " checksum"));
+    if (checksum != format::ChunkChecksum(type, payload)) {
+      return CorruptStreamError(where + " (" + ChunkName(type) + ") fails its checksum");
+    }
+    chunks.push_back({type, static_cast<size_t>(payload.data() - stream.data()), payload.size(),
+                      reader.position() - start});
+    if (type == static_cast<uint8_t>(format::ChunkType::kEnd)) break;
+  }
+  if (!reader.at_end()) {
+    return CorruptStreamError(std::to_string(reader.remaining()) +
+                              " trailing byte(s) after the end chunk");
+  }
+  // End chunk payload: number of chunks before it.
+  const RawChunk& end = chunks.back();
+  ByteReader end_reader(stream.subspan(end.offset, end.size));
+  uint64_t count;
+  DMC_RETURN_IF_ERROR(end_reader.GetVarU(&count, "end chunk count"));
+  if (count != chunks.size() - 1 || !end_reader.at_end()) {
+    return CorruptStreamError("end chunk count does not match the chunks present");
+  }
+  return chunks;
+}
+
+constexpr format::ChunkType kSegmentChunkOrder[] = {
+    format::ChunkType::kSegmentHeader, format::ChunkType::kMean,    format::ChunkType::kBasis,
+    format::ChunkType::kOperator,      format::ChunkType::kAnchors, format::ChunkType::kResiduals};
+constexpr int kChunksPerSegment = 6;
+
+}  // namespace
+
+StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return IoError("cannot open " + path.string());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+  if (in.bad()) return IoError("cannot read " + path.string());
+  return bytes;
+}
+
+Status Decoder::Open(std::span<const uint8_t> stream) {
+  stream_ = stream;
+  info_ = StreamInfo();
+  segment_chunks_.clear();
+  DMC_ASSIGN_OR_RETURN(std::vector<RawChunk> chunks,
+                       SplitChunks(stream, &info_.version_major, &info_.version_minor));
+  info_.total_bytes = stream.size();
+  auto payload = [&](const RawChunk& c) { return stream.subspan(c.offset, c.size); };
+  auto expect = [&](size_t index, format::ChunkType type) -> Status {
+    if (index >= chunks.size() || chunks[index].type != static_cast<uint8_t>(type)) {
+      return CorruptStreamError("chunk " + std::to_string(index) + " should be " +
+                                ChunkName(static_cast<uint8_t>(type)) + ", found " +
+                                (index < chunks.size() ? ChunkName(chunks[index].type) : "none"));
+    }
+    return Status::Ok();
+  };
+  DMC_RETURN_IF_ERROR(expect(0, format::ChunkType::kSequenceHeader));
+  DMC_ASSIGN_OR_RETURN(format::SequenceHeader header,
+                       syntax::ReadSequenceHeader(payload(chunks[0])));
+  DMC_RETURN_IF_ERROR(expect(1, format::ChunkType::kConnectivity));
+  const size_t expected_chunks = 2 + kChunksPerSegment * size_t{header.segment_count} + 1;
+  if (chunks.size() != expected_chunks) {
+    return CorruptStreamError("stream has " + std::to_string(chunks.size()) + " chunks, " +
+                              std::to_string(header.segment_count) + " segment(s) need " +
+                              std::to_string(expected_chunks));
+  }
+  // Output size bound: a decoder refuses to produce more than 16 GiB of positions.
+  if (uint64_t{header.vertex_count} * header.frame_count * 12 > (uint64_t{1} << 34)) {
+    return UnsupportedError("decoded sequence would exceed 16 GiB");
+  }
+  DMC_ASSIGN_OR_RETURN(triangles_, syntax::ReadConnectivity(payload(chunks[1]), header));
+  info_.vertex_count = static_cast<int>(header.vertex_count);
+  info_.triangle_count = static_cast<int>(header.triangle_count);
+  info_.frame_count = static_cast<int>(header.frame_count);
+  info_.frame_rate = header.frame_rate;
+  info_.reordered = (header.flags & format::kFlagReordered) != 0;
+  info_.name = header.name;
+  topology_ = BuildTopology(triangles_, static_cast<int>(header.vertex_count));
+  vertex_order_ = format::BreadthFirstOrder(topology_);
+  info_.header_bytes = 7 + chunks[0].framed_size + chunks.back().framed_size;
+  info_.connectivity_bytes = chunks[1].framed_size;
+
+  uint32_t next_frame = 0;
+  for (uint32_t s = 0; s < header.segment_count; ++s) {
+    const size_t base = 2 + kChunksPerSegment * size_t{s};
+    std::vector<ChunkRef> refs;
+    for (int k = 0; k < kChunksPerSegment; ++k) {
+      DMC_RETURN_IF_ERROR(expect(base + k, kSegmentChunkOrder[k]));
+      refs.push_back({chunks[base + k].type, chunks[base + k].offset, chunks[base + k].size});
+    }
+    DMC_ASSIGN_OR_RETURN(
+        format::SegmentHeader seg,
+        syntax::ReadSegmentHeader(payload(chunks[base]), next_frame,
+                                  header.frame_count - next_frame, header.vertex_count));
+    SegmentInfo segment;
+    segment.first_frame = static_cast<int>(seg.first_frame);
+    segment.frame_count = static_cast<int>(seg.frame_count);
+    segment.rank = static_cast<int>(seg.rank);
+    segment.operator_id = seg.operator_id;
+    segment.operator_name = std::string(OperatorIdName(static_cast<OperatorId>(seg.operator_id)));
+    segment.basis_bits = seg.basis_bits;
+    segment.weight_bits = seg.weight_bits;
+    segment.anchor_count = static_cast<int>(seg.anchor_count);
+    segment.residual_step = seg.residual_step;
+    segment.anchor_step = seg.anchor_step;
+    segment.header_bytes = chunks[base].framed_size;
+    segment.mean_bytes = chunks[base + 1].framed_size;
+    segment.basis_bytes = chunks[base + 2].framed_size;
+    segment.operator_bytes = chunks[base + 3].framed_size;
+    segment.anchor_bytes = chunks[base + 4].framed_size;
+    segment.residual_bytes = chunks[base + 5].framed_size;
+    info_.segments.push_back(segment);
+    segment_chunks_.push_back(std::move(refs));
+    next_frame += seg.frame_count;
+  }
+  if (next_frame != header.frame_count) {
+    return CorruptStreamError("segments cover " + std::to_string(next_frame) + " of " +
+                              std::to_string(header.frame_count) + " frames");
+  }
+  return Status::Ok();
+}
+
+StatusOr<MeshSequence> Decoder::DecodeSegment(int index) const {
+  if (index < 0 || index >= segment_count()) {
+    return InvalidArgumentError("segment " + std::to_string(index) + " does not exist (" +
+                                std::to_string(segment_count()) + " segments)");
+  }
+  const std::vector<ChunkRef>& refs = segment_chunks_[index];
+  auto payload = [&](int k) { return stream_.subspan(refs[k].offset, refs[k].size); };
+  const SegmentInfo& info = info_.segments[index];
+  const uint32_t frames_left = static_cast<uint32_t>(info_.frame_count - info.first_frame);
+  SegmentSyntax syntax;
+  DMC_ASSIGN_OR_RETURN(syntax.header, syntax::ReadSegmentHeader(
+                                          payload(0), static_cast<uint32_t>(info.first_frame),
+                                          frames_left, static_cast<uint32_t>(info_.vertex_count)));
+  const MeshTopology& topology = topology_;
+  const std::string where = "segment " + std::to_string(index) + " ";
+  DMC_RETURN_IF_ERROR(syntax::ReadMean(payload(1), syntax).WithContext(where + "mean"));
+  DMC_RETURN_IF_ERROR(syntax::ReadBasis(payload(2), syntax).WithContext(where + "basis"));
+  DMC_RETURN_IF_ERROR(
+      syntax::ReadOperator(payload(3), topology, syntax).WithContext(where + "operator"));
+  DMC_RETURN_IF_ERROR(
+      syntax::ReadAnchors(payload(4), info_.vertex_count, syntax).WithContext(where + "anchors"));
+  DMC_RETURN_IF_ERROR(syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
+                          .WithContext(where + "residuals"));
+  MeshSequence sequence(info_.vertex_count, triangles_, info.frame_count);
+  sequence.name = info_.name;
+  sequence.frame_rate = info_.frame_rate;
+  Eigen::MatrixXd coefficients(info_.vertex_count, syntax.header.rank);
+  if (syntax.header.rank > 0) {
+    DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
+    DMC_ASSIGN_OR_RETURN(coefficients, ReconstructCoefficients(topology, laplace, syntax));
+  }
+  SynthesizeFrames(syntax.mean, syntax.basis, coefficients, info.frame_count, sequence.data());
+  return sequence;
+}
+
+StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream) {
+  Decoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Open(stream));
+  return decoder.info();
+}
+
+StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream) {
+  Decoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Open(stream));
+  const StreamInfo& info = decoder.info();
+  MeshSequence sequence(info.vertex_count, Triangles(), info.frame_count);
+  for (int s = 0; s < decoder.segment_count(); ++s) {
+    DMC_ASSIGN_OR_RETURN(MeshSequence part, decoder.DecodeSegment(s));
+    if (s == 0) sequence.mutable_triangles() = part.triangles();
+    const size_t offset = static_cast<size_t>(info.segments[s].first_frame) * info.vertex_count * 3;
+    std::copy(part.data(), part.data() + part.position_value_count(), sequence.data() + offset);
+  }
+  sequence.name = info.name;
+  sequence.frame_rate = info.frame_rate;
+  return sequence;
+}
+
+StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path) {
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
+  DMC_ASSIGN_OR_RETURN(MeshSequence sequence, Decode(bytes));
+  return sequence;
+}
+
+}  // namespace dmc

@@ -1,0 +1,41 @@
+// The decoder-side reconstruction of one segment from its dequantised syntax elements. The
+// encoder calls exactly this code in its closed loop, so both sides rebuild identical values.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "bitstream/format.h"
+#include "dmc/operators.h"
+#include "dmc/status.h"
+#include "dmc/topology.h"
+
+namespace dmc {
+
+// A segment's syntax elements after entropy decoding and dequantisation.
+struct SegmentSyntax {
+  format::SegmentHeader header;
+  Eigen::VectorXd mean;               // 3F mean trajectory
+  Eigen::MatrixXd basis;              // 3F × r dequantised basis
+  std::vector<int64_t> edge_weights;  // DDL: integer weights per edge (units 2^-weight_bits)
+  std::vector<int32_t> anchors;       // ascending vertex indices
+  Eigen::MatrixXd anchor_values;      // anchors × r dequantised coefficients
+  Eigen::MatrixXd delta;              // V × r dequantised delta-trajectories
+};
+
+// Rebuilds the operator the segment names (DDL from its integer weights).
+StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
+                                                 const SegmentSyntax& syntax);
+
+// Solves for the V×r coefficients from the operator, deltas and anchors (factor once, solve r).
+StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
+                                                  const LaplaceOperator& laplace,
+                                                  const SegmentSyntax& syntax);
+
+// positions(v, 3f + axis) = mean(3f + axis) + Σ_k C(v, k) basis(3f + axis, k), written as float
+// frames into `frames` (frame_count × V × 3, frame after frame).
+void SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis,
+                      const Eigen::MatrixXd& coefficients, int frame_count, float* frames);
+
+}  // namespace dmc

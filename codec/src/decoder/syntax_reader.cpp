@@ -1,0 +1,298 @@
+#include "decoder/syntax_reader.h"
+
+#include <cmath>
+#include <string>
+
+#include "bitstream/syntax.h"
+#include "decoder/range_decoder.h"
+#include "dmc/operators.h"
+#include "entropy/byte_io.h"
+
+namespace dmc::syntax {
+namespace {
+
+Status CheckFinitePositive(double value, const char* field) {
+  if (!std::isfinite(value) || value <= 0.0) {
+    return CorruptStreamError(std::string(field) + " must be finite and positive, got " +
+                              std::to_string(value));
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> payload) {
+  ByteReader reader(payload);
+  format::SequenceHeader header;
+  uint64_t value;
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(&value, 1, format::kMaxVertices, "vertex count"));
+  header.vertex_count = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(&value, 1, format::kMaxTriangles, "triangle count"));
+  header.triangle_count = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(&value, 1, format::kMaxFrames, "frame count"));
+  header.frame_count = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(&value, 1, header.frame_count, "segment count"));
+  header.segment_count = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetF64(&header.frame_rate, "frame rate"));
+  if (!std::isfinite(header.frame_rate) || header.frame_rate < 0.0) {
+    return CorruptStreamError("frame rate must be finite and non-negative");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetU8(&header.flags, "sequence flags"));
+  if ((header.flags & ~format::kFlagReordered) != 0) {
+    return CorruptStreamError("reserved sequence flag bits are set");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetString(&header.name, format::kMaxNameLength, "sequence name"));
+  if (!reader.at_end()) return CorruptStreamError("sequence header has trailing bytes");
+  return header;
+}
+
+StatusOr<Triangles> ReadConnectivity(std::span<const uint8_t> payload,
+                                     const format::SequenceHeader& header) {
+  ByteReader reader(payload);
+  uint8_t method;
+  DMC_RETURN_IF_ERROR(reader.GetU8(&method, "connectivity method"));
+  if (method != static_cast<uint8_t>(format::ConnectivityMethod::kIndexed)) {
+    return UnsupportedError("connectivity method " + std::to_string(method) + " is unknown");
+  }
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload.subspan(1)));
+  IntegerContexts first, second, third;
+  // Every triangle costs at least one coded bit, so a short payload cannot claim huge counts.
+  if (header.triangle_count > 64 * payload.size() + 64) {
+    return CorruptStreamError("triangle count " + std::to_string(header.triangle_count) +
+                              " cannot fit in a connectivity payload of " +
+                              std::to_string(payload.size()) + " bytes");
+  }
+  Triangles triangles(header.triangle_count, 3);
+  int64_t previous = 0;
+  const int64_t v_count = header.vertex_count;
+  for (uint32_t t = 0; t < header.triangle_count; ++t) {
+    int64_t d0, d1, d2;
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(first, &d0));
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(second, &d1));
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(third, &d2));
+    const int64_t a = previous + d0, b = a + d1, c = a + d2;
+    if (a < 0 || a >= v_count || b < 0 || b >= v_count || c < 0 || c >= v_count) {
+      return CorruptStreamError("triangle " + std::to_string(t) +
+                                " has a vertex index outside [0, " + std::to_string(v_count) + ")");
+    }
+    triangles.row(t) << static_cast<int32_t>(a), static_cast<int32_t>(b), static_cast<int32_t>(c);
+    previous = a;
+  }
+  DMC_RETURN_IF_ERROR(decoder.CheckNotOverrun("connectivity"));
+  return triangles;
+}
+
+StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
+                                                  uint32_t expected_first_frame,
+                                                  uint32_t frames_left, uint32_t vertex_count) {
+  ByteReader reader(payload);
+  format::SegmentHeader h;
+  uint64_t value;
+  DMC_RETURN_IF_ERROR(reader.GetVarU(&value, "segment first frame"));
+  if (value != expected_first_frame) {
+    return CorruptStreamError("segment starts at frame " + std::to_string(value) + ", expected " +
+                              std::to_string(expected_first_frame));
+  }
+  h.first_frame = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(
+      reader.GetVarURange(&value, 1, std::min<uint64_t>(frames_left, format::kMaxSegmentFrames),
+                          "segment frame count"));
+  h.frame_count = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(
+      &value, 0, std::min<uint64_t>(format::kMaxRank, 3ull * h.frame_count), "segment rank"));
+  h.rank = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetU8(&h.operator_id, "operator ID"));
+  const auto id = static_cast<OperatorId>(h.operator_id);
+  if (id != OperatorId::kKirchhoff && id != OperatorId::kTutte && id != OperatorId::kDdl) {
+    return UnsupportedError("operator wire ID " + std::to_string(h.operator_id) +
+                            " is not a codec operator of format 1.0");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetU8(&h.basis_bits, "basis bits"));
+  if (h.basis_bits < 2 || h.basis_bits > 16) {
+    return CorruptStreamError("basis bits " + std::to_string(h.basis_bits) + " outside [2, 16]");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetU8(&h.weight_bits, "weight bits"));
+  if (h.weight_bits < 2 || h.weight_bits > 20) {
+    return CorruptStreamError("weight bits " + std::to_string(h.weight_bits) + " outside [2, 20]");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(&value, 1, vertex_count, "anchor count"));
+  h.anchor_count = static_cast<uint32_t>(value);
+  DMC_RETURN_IF_ERROR(reader.GetF64(&h.mean_step, "mean step"));
+  DMC_RETURN_IF_ERROR(reader.GetF64(&h.residual_step, "residual step"));
+  DMC_RETURN_IF_ERROR(reader.GetF64(&h.anchor_step, "anchor step"));
+  DMC_RETURN_IF_ERROR(reader.GetF64(&h.anchor_weight, "anchor weight"));
+  DMC_RETURN_IF_ERROR(CheckFinitePositive(h.mean_step, "mean step"));
+  DMC_RETURN_IF_ERROR(CheckFinitePositive(h.residual_step, "residual step"));
+  DMC_RETURN_IF_ERROR(CheckFinitePositive(h.anchor_step, "anchor step"));
+  DMC_RETURN_IF_ERROR(CheckFinitePositive(h.anchor_weight, "anchor weight"));
+  if (!reader.at_end()) return CorruptStreamError("segment header has trailing bytes");
+  return h;
+}
+
+Status ReadMean(std::span<const uint8_t> payload, SegmentSyntax& syntax) {
+  const int frames = static_cast<int>(syntax.header.frame_count);
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload));
+  format::MeanContexts contexts;
+  syntax.mean.resize(3 * frames);
+  for (int axis = 0; axis < 3; ++axis) {
+    int64_t q = 0;
+    for (int f = 0; f < frames; ++f) {
+      int64_t d;
+      DMC_RETURN_IF_ERROR(decoder.DecodeSigned(f == 0 ? contexts.first : contexts.delta, &d));
+      q += d;
+      if (q > (int64_t{1} << 52) || q < -(int64_t{1} << 52)) {
+        return CorruptStreamError("mean trajectory value out of range");
+      }
+      syntax.mean[3 * f + axis] = static_cast<double>(q) * syntax.header.mean_step;
+    }
+  }
+  return decoder.CheckNotOverrun("mean chunk");
+}
+
+Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax) {
+  const int frames = static_cast<int>(syntax.header.frame_count);
+  const int rank = static_cast<int>(syntax.header.rank);
+  const int64_t levels = (int64_t{1} << (syntax.header.basis_bits - 1)) - 1;
+  syntax.basis.resize(3 * frames, rank);
+  if (rank == 0) return Status::Ok();
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload));
+  auto contexts = std::make_unique<format::BasisContexts>();
+  std::vector<int64_t> q(frames);
+  for (int k = 0; k < rank; ++k) {
+    const int g = std::min(k, format::kBasisColumnGroups - 1);
+    const bool second_order = decoder.DecodeBit(contexts->second_order[g]) != 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int f = 0; f < frames; ++f) {
+        int64_t prediction = 0;
+        if (f == 1 || (f >= 2 && !second_order)) prediction = q[f - 1];
+        if (f >= 2 && second_order) prediction = 2 * q[f - 1] - q[f - 2];
+        int64_t d;
+        DMC_RETURN_IF_ERROR(
+            decoder.DecodeSigned(f == 0 ? contexts->first[g] : contexts->delta[g], &d));
+        q[f] = prediction + d;
+        if (q[f] > levels || q[f] < -levels) {
+          return CorruptStreamError("basis vector " + std::to_string(k) + " sample " +
+                                    std::to_string(f) + " exceeds its quantiser range");
+        }
+        syntax.basis(3 * f + axis, k) = static_cast<double>(q[f]) / static_cast<double>(levels);
+      }
+    }
+  }
+  return decoder.CheckNotOverrun("basis chunk");
+}
+
+Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topology,
+                    SegmentSyntax& syntax) {
+  const auto id = static_cast<OperatorId>(syntax.header.operator_id);
+  if (id != OperatorId::kDdl) {
+    if (!payload.empty())
+      return CorruptStreamError("operator chunk must be empty for this operator");
+    return Status::Ok();
+  }
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload));
+  format::WeightContexts contexts;
+  const int64_t unit_sum = int64_t{1} << syntax.header.weight_bits;
+  const int64_t limit = unit_sum << 8;  // |w| <= 256: anything larger is not a fitted weight
+  syntax.edge_weights.assign(topology.edges.size(), 0);
+  std::vector<int64_t> known_sum(topology.vertex_count, 0);
+  for (const format::WeightVisit& visit : format::BuildWeightSchedule(topology)) {
+    const int n = static_cast<int>(visit.unknown_edges.size());
+    int64_t& sum = known_sum[visit.vertex];
+    for (int j = 0; j < n; ++j) {
+      const int e = visit.unknown_edges[j];
+      int64_t weight;
+      if (j + 1 < n) {
+        const int unknown = n - j;
+        const int64_t prediction = format::RoundDiv(unit_sum - sum, unknown);
+        int64_t residual;
+        DMC_RETURN_IF_ERROR(
+            decoder.DecodeSigned(contexts.by_unknown[std::min(unknown, 5) - 2], &residual));
+        weight = prediction + residual;
+      } else {
+        weight = unit_sum - sum;
+      }
+      if (weight > limit || weight < -limit) {
+        return CorruptStreamError("DDL weight of edge " + std::to_string(e) + " out of range");
+      }
+      syntax.edge_weights[e] = weight;
+      const int other =
+          topology.edges[e][0] == visit.vertex ? topology.edges[e][1] : topology.edges[e][0];
+      sum += weight;
+      known_sum[other] += weight;
+    }
+  }
+  return decoder.CheckNotOverrun("operator chunk");
+}
+
+Status ReadAnchors(std::span<const uint8_t> payload, int vertex_count, SegmentSyntax& syntax) {
+  const int count = static_cast<int>(syntax.header.anchor_count);
+  const int rank = static_cast<int>(syntax.header.rank);
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload));
+  auto contexts = std::make_unique<format::AnchorContexts>();
+  syntax.anchors.resize(count);
+  int64_t previous = -1;
+  for (int a = 0; a < count; ++a) {
+    uint64_t gap;
+    DMC_RETURN_IF_ERROR(decoder.DecodeUnsigned(contexts->index_gap, &gap));
+    const int64_t index = previous + 1 + static_cast<int64_t>(std::min<uint64_t>(gap, 1u << 30));
+    if (index >= vertex_count) {
+      return CorruptStreamError("anchor " + std::to_string(a) + " index " + std::to_string(index) +
+                                " is not a vertex");
+    }
+    syntax.anchors[a] = static_cast<int32_t>(index);
+    previous = index;
+  }
+  syntax.anchor_values.resize(count, rank);
+  for (int a = 0; a < count; ++a) {
+    for (int k = 0; k < rank; ++k) {
+      int64_t q;
+      DMC_RETURN_IF_ERROR(
+          decoder.DecodeSigned(contexts->value[std::min(k, format::kBasisColumnGroups - 1)], &q));
+      syntax.anchor_values(a, k) = static_cast<double>(q) * syntax.header.anchor_step;
+    }
+  }
+  return decoder.CheckNotOverrun("anchor chunk");
+}
+
+Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topology,
+                     const std::vector<int32_t>& vertex_order, SegmentSyntax& syntax) {
+  const int v_count = topology.vertex_count;
+  const int rank = static_cast<int>(syntax.header.rank);
+  syntax.delta.resize(v_count, rank);
+  if (rank == 0) return Status::Ok();
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload));
+  auto contexts = std::make_unique<format::ResidualContexts>();
+  std::vector<int32_t> position(v_count);
+  for (int i = 0; i < v_count; ++i) position[vertex_order[i]] = i;
+  std::vector<int64_t> q(v_count);
+  for (int k = 0; k < rank; ++k) {
+    const int group = format::ResidualColumnGroup(k);
+    for (int i = 0; i < v_count; ++i) {
+      const int v = vertex_order[i];
+      int64_t abs_sum = 0;
+      int coded = 0;
+      for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
+        const int n = topology.ring_neighbors[r];
+        if (position[n] < i) {
+          abs_sum += q[n] < 0 ? -q[n] : q[n];
+          ++coded;
+        }
+      }
+      IntegerContexts& ctx = contexts->sets[group][format::ResidualActivityBucket(abs_sum, coded)];
+      DMC_RETURN_IF_ERROR(decoder.DecodeSigned(ctx, &q[v]));
+      if (q[v] > (int64_t{1} << 40) || q[v] < -(int64_t{1} << 40)) {
+        return CorruptStreamError("residual out of range");
+      }
+      syntax.delta(v, k) = static_cast<double>(q[v]) * syntax.header.residual_step;
+    }
+  }
+  return decoder.CheckNotOverrun("residual chunk");
+}
+
+}  // namespace dmc::syntax

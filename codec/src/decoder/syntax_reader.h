@@ -1,0 +1,32 @@
+// Parsing of chunk payloads (the mirror of encoder/syntax_writer.h). Every function validates
+// what it reads against the limits in bitstream/format.h and the already decoded headers.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "bitstream/format.h"
+#include "decoder/segment_reconstruction.h"
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+#include "dmc/topology.h"
+
+namespace dmc::syntax {
+
+StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> payload);
+StatusOr<Triangles> ReadConnectivity(std::span<const uint8_t> payload,
+                                     const format::SequenceHeader& header);
+// `frames_left`: frames of the sequence not yet covered by earlier segments.
+StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
+                                                  uint32_t expected_first_frame,
+                                                  uint32_t frames_left, uint32_t vertex_count);
+Status ReadMean(std::span<const uint8_t> payload, SegmentSyntax& syntax);
+Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax);
+Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topology,
+                    SegmentSyntax& syntax);
+Status ReadAnchors(std::span<const uint8_t> payload, int vertex_count, SegmentSyntax& syntax);
+Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topology,
+                     const std::vector<int32_t>& vertex_order, SegmentSyntax& syntax);
+
+}  // namespace dmc::syntax

@@ -1,0 +1,401 @@
+#include "dmc/encoder.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "bitstream/format.h"
+#include "bitstream/syntax.h"
+#include "decoder/segment_reconstruction.h"
+#include "dmc/decoder.h"
+#include "dmc/io.h"
+#include "dmc/operators.h"
+#include "encoder/segment_pca.h"
+#include "encoder/syntax_writer.h"
+#include "entropy/byte_io.h"
+
+namespace dmc {
+namespace {
+
+// Defaults chosen by measurement (see the README's rate-distortion notes).
+constexpr int kDefaultSegmentFrames = 256;
+constexpr int kMeanStepBits = 18;         // mean trajectory step = diagonal · 2^-18
+constexpr double kRankThreshold = 1.0;    // keep component k while λ_k > τ · V · Δ²
+constexpr double kAnchorFraction = 0.01;  // automatic anchor count = 1 % of the vertices
+
+struct CodecOperator {
+  std::string_view name;
+  OperatorId id;
+};
+constexpr CodecOperator kCodecOperators[] = {{"ddl", OperatorId::kDdl},
+                                             {"tutte", OperatorId::kTutte},
+                                             {"kirchhoff", OperatorId::kKirchhoff}};
+
+StatusOr<OperatorId> CodecOperatorId(std::string_view name) {
+  for (const auto& op : kCodecOperators) {
+    if (op.name == name) return op.id;
+  }
+  std::string names;
+  for (const auto& op : kCodecOperators)
+    names += (names.empty() ? "" : ", ") + std::string(op.name);
+  if (FindOperator(name).ok()) {
+    return UnsupportedError("operator '" + std::string(name) +
+                            "' cannot be used by the codec (codec operators: " + names + ")");
+  }
+  return NotFoundError("unknown operator '" + std::string(name) + "' (codec operators: " + names +
+                       ")");
+}
+
+Status ValidateOptions(const EncoderOptions& o) {
+  auto bad = [](const std::string& what) { return InvalidArgumentError(what); };
+  if (o.rank < 0 || o.rank > static_cast<int>(format::kMaxRank)) {
+    return bad("--rank must be in [0, " + std::to_string(format::kMaxRank) + "], got " +
+               std::to_string(o.rank));
+  }
+  if (o.basis_bits < 2 || o.basis_bits > 16) {
+    return bad("--basis-bits must be in [2, 16], got " + std::to_string(o.basis_bits));
+  }
+  if (o.residual_bits < 1 || o.residual_bits > 30) {
+    return bad("--residual-bits must be in [1, 30], got " + std::to_string(o.residual_bits));
+  }
+  if (!std::isfinite(o.residual_step) || o.residual_step < 0.0) {
+    return bad("--residual-step must be a finite value >= 0");
+  }
+  if (o.anchors < -1) return bad("--anchors must be >= 1, or -1 for automatic");
+  if (!std::isfinite(o.anchor_step_ratio) || o.anchor_step_ratio <= 0.0) {
+    return bad("anchor step ratio must be positive");
+  }
+  if (o.segment_frames < 0 || o.segment_frames > static_cast<int>(format::kMaxSegmentFrames)) {
+    return bad("--segment-frames must be in [0, " + std::to_string(format::kMaxSegmentFrames) +
+               "]");
+  }
+  if (o.weight_bits < 2 || o.weight_bits > 20) {
+    return bad("--weight-bits must be in [2, 20], got " + std::to_string(o.weight_bits));
+  }
+  if (!std::isfinite(o.ddl_regularization) || o.ddl_regularization < 0.0) {
+    return bad("--ddl-mu must be >= 0");
+  }
+  if (!std::isfinite(o.target_bpfv) || o.target_bpfv < 0.0 || !std::isfinite(o.target_sted) ||
+      o.target_sted < 0.0) {
+    return bad("targets must be finite and >= 0");
+  }
+  if (o.target_bpfv > 0.0 && o.target_sted > 0.0) {
+    return bad("give --target-bpfv or --target-sted, not both");
+  }
+  return CodecOperatorId(o.operator_name).status();
+}
+
+// Farthest-point sampling on the segment's mean positions, then one anchor added to every
+// component that has none (the normal matrix is singular otherwise). Ascending indices.
+std::vector<int32_t> ChooseAnchors(const Eigen::MatrixXd& trajectories, int frames,
+                                   const MeshTopology& topology, int count) {
+  const int v_count = topology.vertex_count;
+  Eigen::MatrixXd mean_positions = Eigen::MatrixXd::Zero(v_count, 3);
+  for (int f = 0; f < frames; ++f) mean_positions += trajectories.middleCols(3 * f, 3);
+  mean_positions /= frames;
+  count = std::clamp(count, 1, v_count);
+  std::vector<double> distance(v_count, std::numeric_limits<double>::infinity());
+  std::vector<uint8_t> chosen(v_count, 0);
+  std::vector<int32_t> anchors;
+  int next = 0;
+  for (int a = 0; a < count; ++a) {
+    anchors.push_back(next);
+    chosen[next] = 1;
+    const Eigen::RowVector3d p = mean_positions.row(next);
+    int farthest = -1;
+    double farthest_distance = -1.0;
+    for (int v = 0; v < v_count; ++v) {
+      distance[v] = std::min(distance[v], (mean_positions.row(v) - p).squaredNorm());
+      if (!chosen[v] && distance[v] > farthest_distance) {
+        farthest_distance = distance[v];
+        farthest = v;
+      }
+    }
+    if (farthest < 0) break;
+    next = farthest;
+  }
+  std::vector<uint8_t> anchored(topology.component_count, 0);
+  for (int32_t a : anchors) anchored[topology.component_of_vertex[a]] = 1;
+  for (int v = 0; v < v_count; ++v) {
+    const int c = topology.component_of_vertex[v];
+    if (!anchored[c]) {
+      anchored[c] = 1;
+      anchors.push_back(v);
+    }
+  }
+  std::sort(anchors.begin(), anchors.end());
+  return anchors;
+}
+
+struct SegmentResult {
+  format::ChunkSizes sizes;
+  int rank = 0;
+  int anchors = 0;
+};
+
+// Encodes one segment into `out` in closed loop: every quantity after a quantiser uses the
+// decoder's reconstruction of it.
+StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTopology& topology,
+                                      const std::vector<int32_t>& vertex_order,
+                                      const EncoderOptions& options, OperatorId operator_id,
+                                      double diagonal, double residual_step, int first_frame,
+                                      int frame_count, ByteWriter& out) {
+  const int v_count = sequence.vertex_count();
+  const Eigen::MatrixXd trajectories = TrajectoryMatrix(sequence, first_frame, frame_count);
+  const TrajectoryPca pca = ComputeTrajectoryPca(trajectories);
+
+  SegmentSyntax syntax;
+  format::SegmentHeader& h = syntax.header;
+  h.first_frame = static_cast<uint32_t>(first_frame);
+  h.frame_count = static_cast<uint32_t>(frame_count);
+  const int max_rank = std::min<int>(3 * frame_count, std::max(v_count - 1, 0));
+  int rank = options.rank;
+  if (rank == 0) {
+    const double threshold = kRankThreshold * v_count * residual_step * residual_step;
+    while (rank < max_rank && pca.eigenvalues[rank] > threshold) ++rank;
+  }
+  rank = std::min(rank, max_rank);
+  h.rank = static_cast<uint32_t>(rank);
+  h.operator_id = static_cast<uint8_t>(operator_id);
+  h.basis_bits = static_cast<uint8_t>(options.basis_bits);
+  h.weight_bits = static_cast<uint8_t>(options.weight_bits);
+  const int anchor_request =
+      options.anchors >= 0 ? options.anchors
+                           : std::max(1, static_cast<int>(std::lround(kAnchorFraction * v_count)));
+  h.mean_step = std::ldexp(diagonal, -kMeanStepBits);
+  h.residual_step = residual_step;
+  h.anchor_step = residual_step * options.anchor_step_ratio;
+  h.anchor_weight = 1.0;
+
+  std::vector<int32_t> anchors;
+  if (rank > 0) anchors = ChooseAnchors(trajectories, frame_count, topology, anchor_request);
+  if (anchors.empty()) anchors.push_back(0);
+  h.anchor_count = static_cast<uint32_t>(anchors.size());
+
+  // Mean and basis first: the coefficients are computed against their decoded values.
+  const std::vector<uint8_t> mean_payload = syntax::WriteMean(pca.mean, h, &syntax.mean);
+  const std::vector<uint8_t> basis_payload =
+      syntax::WriteBasis(pca.eigenvectors.leftCols(rank), h, &syntax.basis);
+  Eigen::MatrixXd coefficients(v_count, rank);
+  if (rank > 0) {
+    const Eigen::MatrixXd projected =
+        (trajectories.rowwise() - syntax.mean.transpose()) * syntax.basis;
+    const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
+    coefficients = gram.ldlt().solve(projected.transpose()).transpose();
+  }
+
+  std::vector<uint8_t> operator_payload;
+  if (rank > 0 && operator_id == OperatorId::kDdl) {
+    OperatorOptions operator_options;
+    operator_options.ddl.mu = options.ddl_regularization;
+    DMC_ASSIGN_OR_RETURN(
+        LaplaceOperator fitted,
+        FitDdlSymmetric(topology, SourceFromTrajectories(coefficients), operator_options));
+    operator_payload = syntax::WriteDdlWeights(fitted.weights.values, topology, options.weight_bits,
+                                               &syntax.edge_weights);
+  } else if (operator_id == OperatorId::kDdl) {
+    // Rank 0: nothing to reconstruct; send Tutte-like predicted weights (all residuals zero).
+    std::vector<double> predicted(topology.edges.size(), 0.0);
+    operator_payload =
+        syntax::WriteDdlWeights(predicted, topology, options.weight_bits, &syntax.edge_weights);
+  }
+
+  const std::vector<uint8_t> anchor_payload =
+      syntax::WriteAnchors(anchors, coefficients, h, &syntax.anchor_values);
+  std::vector<uint8_t> residual_payload;
+  if (rank > 0) {
+    DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
+    const Eigen::MatrixXd delta = laplace.matrix * coefficients;
+    residual_payload = syntax::WriteResiduals(delta, topology, vertex_order, h, &syntax.delta);
+  }
+
+  SegmentResult result;
+  result.rank = rank;
+  result.anchors = static_cast<int>(anchors.size());
+  auto append = [&](format::ChunkType type, const std::vector<uint8_t>& payload, uint64_t* size) {
+    const size_t before = out.size();
+    syntax::AppendChunk(out, type, payload);
+    *size += out.size() - before;
+  };
+  append(format::ChunkType::kSegmentHeader, syntax::WriteSegmentHeader(h), &result.sizes.header);
+  append(format::ChunkType::kMean, mean_payload, &result.sizes.mean);
+  append(format::ChunkType::kBasis, basis_payload, &result.sizes.basis);
+  append(format::ChunkType::kOperator, operator_payload, &result.sizes.operator_info);
+  append(format::ChunkType::kAnchors, anchor_payload, &result.sizes.anchors);
+  append(format::ChunkType::kResiduals, residual_payload, &result.sizes.residuals);
+  return result;
+}
+
+StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
+                                          const MeshTopology& topology,
+                                          const EncoderOptions& options, double diagonal,
+                                          EncodeReport* report) {
+  DMC_ASSIGN_OR_RETURN(const OperatorId operator_id, CodecOperatorId(options.operator_name));
+  const double residual_step = options.residual_step > 0.0
+                                   ? options.residual_step
+                                   : std::ldexp(diagonal, -options.residual_bits);
+  const int frames = sequence.frame_count();
+  const int segment_limit =
+      options.segment_frames > 0 ? options.segment_frames : kDefaultSegmentFrames;
+  const int segments = (frames + segment_limit - 1) / segment_limit;
+
+  ByteWriter out;
+  for (uint8_t byte : format::kMagic) out.PutU8(byte);
+  out.PutU8(format::kVersionMajor);
+  out.PutU8(format::kVersionMinor);
+  out.PutU8(0);  // reserved
+  format::SequenceHeader header;
+  header.vertex_count = static_cast<uint32_t>(sequence.vertex_count());
+  header.triangle_count = static_cast<uint32_t>(sequence.triangle_count());
+  header.frame_count = static_cast<uint32_t>(frames);
+  header.segment_count = static_cast<uint32_t>(segments);
+  header.frame_rate = sequence.frame_rate;
+  header.name = sequence.name;
+  format::ChunkSizes totals;
+  size_t before = out.size();
+  syntax::AppendChunk(out, format::ChunkType::kSequenceHeader, syntax::WriteSequenceHeader(header));
+  totals.header += out.size();  // includes magic and version
+  before = out.size();
+  syntax::AppendChunk(out, format::ChunkType::kConnectivity,
+                      syntax::WriteConnectivity(sequence.triangles()));
+  totals.connectivity += out.size() - before;
+
+  const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
+  int first_frame = 0;
+  int chunk_count = 2;
+  for (int s = 0; s < segments; ++s) {
+    // Equal-sized segments (differing by at most one frame).
+    const int count = frames / segments + (s < frames % segments ? 1 : 0);
+    DMC_ASSIGN_OR_RETURN(SegmentResult segment,
+                         EncodeSegment(sequence, topology, vertex_order, options, operator_id,
+                                       diagonal, residual_step, first_frame, count, out));
+    totals.header += segment.sizes.header;
+    totals.mean += segment.sizes.mean;
+    totals.basis += segment.sizes.basis;
+    totals.operator_info += segment.sizes.operator_info;
+    totals.anchors += segment.sizes.anchors;
+    totals.residuals += segment.sizes.residuals;
+    if (s == 0 && report) {
+      report->rank = segment.rank;
+      report->anchors = segment.anchors;
+    }
+    chunk_count += 6;
+    first_frame += count;
+  }
+  ByteWriter end;
+  end.PutVarU(static_cast<uint64_t>(chunk_count));
+  before = out.size();
+  syntax::AppendChunk(out, format::ChunkType::kEnd, end.bytes());
+  totals.header += out.size() - before;
+
+  if (report) {
+    report->bytes = out.size();
+    report->frames = frames;
+    report->vertices = sequence.vertex_count();
+    report->bpfv = 8.0 * static_cast<double>(out.size()) /
+                   (static_cast<double>(frames) * sequence.vertex_count());
+    report->header_bytes = totals.header;
+    report->connectivity_bytes = totals.connectivity;
+    report->mean_bytes = totals.mean;
+    report->basis_bytes = totals.basis;
+    report->operator_bytes = totals.operator_info;
+    report->anchor_bytes = totals.anchors;
+    report->residual_bytes = totals.residuals;
+    report->residual_step = residual_step;
+    report->residual_bits_equivalent =
+        static_cast<int>(std::lround(std::log2(diagonal / residual_step)));
+    report->segments = segments;
+  }
+  return out.Take();
+}
+
+Status Measure(const MeshSequence& sequence, const std::vector<uint8_t>& bytes,
+               EncodeReport* report) {
+  DMC_ASSIGN_OR_RETURN(MeshSequence decoded, Decode(bytes));
+  DMC_ASSIGN_OR_RETURN(report->distortion, MeasureDistortion(sequence, decoded));
+  report->measured = true;
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,
+                                      EncodeReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
+  DMC_RETURN_IF_ERROR(ValidateOptions(options));
+  if (static_cast<uint64_t>(sequence.frame_count()) > format::kMaxFrames ||
+      static_cast<uint64_t>(sequence.vertex_count()) > format::kMaxVertices) {
+    return UnsupportedError("sequence exceeds the format's limits");
+  }
+  const MeshTopology topology = BuildTopology(sequence.triangles(), sequence.vertex_count());
+  const double diagonal = std::max(ComputeBoundingBox(sequence).diagonal(), 1e-12);
+  EncodeReport local;
+  EncodeReport& out = report ? *report : local;
+  out = EncodeReport();
+
+  EncoderOptions chosen = options;
+  std::vector<uint8_t> bytes;
+  if (options.target_bpfv > 0.0 || options.target_sted > 0.0) {
+    // Rate control: bisection on the residual step (rank follows it automatically). Rate falls
+    // and distortion rises monotonically with the step.
+    double low = 1.0, high = 24.0;  // residual bits
+    bool found = false;
+    std::vector<uint8_t> best;
+    EncodeReport best_report;
+    for (int iteration = 0; iteration < 12; ++iteration) {
+      const double bits = 0.5 * (low + high);
+      chosen.residual_step = std::ldexp(diagonal, 0) * std::pow(2.0, -bits);
+      EncodeReport trial;
+      DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> candidate,
+                           EncodeOnce(sequence, topology, chosen, diagonal, &trial));
+      bool meets;
+      if (options.target_bpfv > 0.0) {
+        meets = trial.bpfv <= options.target_bpfv;
+      } else {
+        DMC_RETURN_IF_ERROR(Measure(sequence, candidate, &trial));
+        meets = trial.distortion.sted <= options.target_sted;
+      }
+      // Meeting a rate target: finer steps are better while they fit; meeting a distortion
+      // target: coarser steps are better while they meet it.
+      const bool prefer_finer = options.target_bpfv > 0.0;
+      if (meets) {
+        found = true;
+        best = std::move(candidate);
+        best_report = trial;
+        if (prefer_finer) {
+          low = bits;
+        } else {
+          high = bits;
+        }
+      } else if (prefer_finer) {
+        high = bits;
+      } else {
+        low = bits;
+      }
+    }
+    if (!found) {
+      return InvalidArgumentError(options.target_bpfv > 0.0
+                                      ? "no parameters reach the target rate"
+                                      : "no parameters reach the target distortion");
+    }
+    bytes = std::move(best);
+    out = best_report;
+  } else {
+    DMC_ASSIGN_OR_RETURN(bytes, EncodeOnce(sequence, topology, chosen, diagonal, &out));
+  }
+  if (options.measure && !out.measured) DMC_RETURN_IF_ERROR(Measure(sequence, bytes, &out));
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return bytes;
+}
+
+Status EncodeToFile(const MeshSequence& sequence, const std::filesystem::path& output,
+                    const EncoderOptions& options, EncodeReport* report) {
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, Encode(sequence, options, report));
+  return WriteFileAtomically(output, bytes);
+}
+
+}  // namespace dmc

@@ -1,0 +1,25 @@
+// Trajectory PCA of one segment (CODDYAC): each vertex's trajectory over the segment's F frames
+// is a 3F vector (x0, y0, z0, x1, ...); the mean trajectory over vertices is subtracted and the
+// principal trajectories are the eigenvectors of the 3F×3F Gram matrix XcᵀXc — cheap because
+// 3F ≪ V, and exact (no iterative truncation).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "dmc/sequence.h"
+
+namespace dmc {
+
+// V × 3F trajectories of frames [first_frame, first_frame + frame_count), in double.
+Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count);
+
+struct TrajectoryPca {
+  Eigen::VectorXd mean;          // 3F: mean over vertices of the trajectories
+  Eigen::VectorXd eigenvalues;   // descending, ≥ 0: squared singular values of the centred data
+  Eigen::MatrixXd eigenvectors;  // 3F × 3F, columns in the order of eigenvalues
+};
+
+// Deterministic for any thread count (the Gram matrix is summed over fixed row blocks in order).
+TrajectoryPca ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories);
+
+}  // namespace dmc

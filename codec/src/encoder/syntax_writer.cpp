@@ -1,0 +1,215 @@
+#include "encoder/syntax_writer.h"
+
+#include <cmath>
+#include <memory>
+
+#include "bitstream/syntax.h"
+#include "encoder/range_encoder.h"
+
+namespace dmc::syntax {
+
+void AppendChunk(ByteWriter& out, format::ChunkType type, const std::vector<uint8_t>& payload) {
+  const auto type_value = static_cast<uint8_t>(type);
+  out.PutU8(type_value);
+  out.PutVarU(payload.size());
+  out.PutBytes(payload);
+  out.PutU32(format::ChunkChecksum(type_value, payload));
+}
+
+std::vector<uint8_t> WriteSequenceHeader(const format::SequenceHeader& header) {
+  ByteWriter w;
+  w.PutVarU(header.vertex_count);
+  w.PutVarU(header.triangle_count);
+  w.PutVarU(header.frame_count);
+  w.PutVarU(header.segment_count);
+  w.PutF64(header.frame_rate);
+  w.PutU8(header.flags);
+  w.PutString(header.name.substr(0, format::kMaxNameLength));
+  return w.Take();
+}
+
+std::vector<uint8_t> WriteConnectivity(const Triangles& triangles) {
+  RangeEncoder encoder;
+  IntegerContexts first, second, third;
+  int64_t previous = 0;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const int64_t a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+    encoder.EncodeSigned(first, a - previous);
+    encoder.EncodeSigned(second, b - a);
+    encoder.EncodeSigned(third, c - a);
+    previous = a;
+  }
+  std::vector<uint8_t> payload = {static_cast<uint8_t>(format::ConnectivityMethod::kIndexed)};
+  const std::vector<uint8_t> coded = encoder.Finish();
+  payload.insert(payload.end(), coded.begin(), coded.end());
+  return payload;
+}
+
+std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& h) {
+  ByteWriter w;
+  w.PutVarU(h.first_frame);
+  w.PutVarU(h.frame_count);
+  w.PutVarU(h.rank);
+  w.PutU8(h.operator_id);
+  w.PutU8(h.basis_bits);
+  w.PutU8(h.weight_bits);
+  w.PutVarU(h.anchor_count);
+  w.PutF64(h.mean_step);
+  w.PutF64(h.residual_step);
+  w.PutF64(h.anchor_step);
+  w.PutF64(h.anchor_weight);
+  return w.Take();
+}
+
+std::vector<uint8_t> WriteMean(const Eigen::VectorXd& mean, const format::SegmentHeader& header,
+                               Eigen::VectorXd* decoded) {
+  const int frames = static_cast<int>(header.frame_count);
+  RangeEncoder encoder;
+  format::MeanContexts contexts;
+  decoded->resize(3 * frames);
+  for (int axis = 0; axis < 3; ++axis) {
+    int64_t previous = 0;
+    for (int f = 0; f < frames; ++f) {
+      const int64_t q = std::llround(mean[3 * f + axis] / header.mean_step);
+      encoder.EncodeSigned(f == 0 ? contexts.first : contexts.delta, q - previous);
+      previous = q;
+      (*decoded)[3 * f + axis] = static_cast<double>(q) * header.mean_step;
+    }
+  }
+  return encoder.Finish();
+}
+
+std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::SegmentHeader& header,
+                                Eigen::MatrixXd* decoded) {
+  const int frames = static_cast<int>(header.frame_count);
+  const int rank = static_cast<int>(header.rank);
+  const int64_t levels = (int64_t{1} << (header.basis_bits - 1)) - 1;
+  decoded->resize(3 * frames, rank);
+  if (rank == 0) return {};
+  RangeEncoder encoder;
+  auto contexts = std::make_unique<format::BasisContexts>();
+  std::vector<int64_t> q(frames);
+  for (int k = 0; k < rank; ++k) {
+    const int g = std::min(k, format::kBasisColumnGroups - 1);
+    // Quantise all samples, then pick the predictor with the smaller total |residual|.
+    std::vector<std::vector<int64_t>> samples(3, std::vector<int64_t>(frames));
+    int64_t cost_first = 0, cost_second = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int f = 0; f < frames; ++f) {
+        const double value = std::clamp(basis(3 * f + axis, k), -1.0, 1.0);
+        samples[axis][f] = std::llround(value * static_cast<double>(levels));
+      }
+      for (int f = 2; f < frames; ++f) {
+        const auto& s = samples[axis];
+        cost_first += std::llabs(s[f] - s[f - 1]);
+        cost_second += std::llabs(s[f] - 2 * s[f - 1] + s[f - 2]);
+      }
+    }
+    const bool second_order = cost_second < cost_first;
+    encoder.EncodeBit(contexts->second_order[g], second_order ? 1 : 0);
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto& s = samples[axis];
+      for (int f = 0; f < frames; ++f) {
+        int64_t prediction = 0;
+        if (f == 1 || (f >= 2 && !second_order)) prediction = s[f - 1];
+        if (f >= 2 && second_order) prediction = 2 * s[f - 1] - s[f - 2];
+        encoder.EncodeSigned(f == 0 ? contexts->first[g] : contexts->delta[g], s[f] - prediction);
+        (*decoded)(3 * f + axis, k) = static_cast<double>(s[f]) / static_cast<double>(levels);
+      }
+    }
+  }
+  return encoder.Finish();
+}
+
+std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
+                                     const MeshTopology& topology, int weight_bits,
+                                     std::vector<int64_t>* decoded) {
+  RangeEncoder encoder;
+  format::WeightContexts contexts;
+  const int64_t unit_sum = int64_t{1} << weight_bits;
+  const double scale = static_cast<double>(unit_sum);
+  decoded->assign(topology.edges.size(), 0);
+  std::vector<int64_t> known_sum(topology.vertex_count, 0);
+  for (const format::WeightVisit& visit : format::BuildWeightSchedule(topology)) {
+    const int n = static_cast<int>(visit.unknown_edges.size());
+    int64_t& sum = known_sum[visit.vertex];
+    for (int j = 0; j < n; ++j) {
+      const int e = visit.unknown_edges[j];
+      int64_t weight;
+      if (j + 1 < n) {
+        const int unknown = n - j;
+        const int64_t prediction = format::RoundDiv(unit_sum - sum, unknown);
+        weight = std::llround(edge_weights[e] * scale);
+        encoder.EncodeSigned(contexts.by_unknown[std::min(unknown, 5) - 2], weight - prediction);
+      } else {
+        weight = unit_sum - sum;
+      }
+      (*decoded)[e] = weight;
+      const int other =
+          topology.edges[e][0] == visit.vertex ? topology.edges[e][1] : topology.edges[e][0];
+      sum += weight;
+      known_sum[other] += weight;
+    }
+  }
+  return encoder.Finish();
+}
+
+std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
+                                  const Eigen::MatrixXd& coefficients,
+                                  const format::SegmentHeader& header,
+                                  Eigen::MatrixXd* decoded_values) {
+  const int rank = static_cast<int>(header.rank);
+  RangeEncoder encoder;
+  auto contexts = std::make_unique<format::AnchorContexts>();
+  int64_t previous = -1;
+  for (int32_t index : anchors) {
+    encoder.EncodeUnsigned(contexts->index_gap, static_cast<uint64_t>(index - previous - 1));
+    previous = index;
+  }
+  decoded_values->resize(static_cast<Eigen::Index>(anchors.size()), rank);
+  for (size_t a = 0; a < anchors.size(); ++a) {
+    for (int k = 0; k < rank; ++k) {
+      const int64_t q = std::llround(coefficients(anchors[a], k) / header.anchor_step);
+      encoder.EncodeSigned(contexts->value[std::min(k, format::kBasisColumnGroups - 1)], q);
+      (*decoded_values)(static_cast<Eigen::Index>(a), k) =
+          static_cast<double>(q) * header.anchor_step;
+    }
+  }
+  return encoder.Finish();
+}
+
+std::vector<uint8_t> WriteResiduals(const Eigen::MatrixXd& delta, const MeshTopology& topology,
+                                    const std::vector<int32_t>& vertex_order,
+                                    const format::SegmentHeader& header, Eigen::MatrixXd* decoded) {
+  const int v_count = topology.vertex_count;
+  const int rank = static_cast<int>(header.rank);
+  decoded->resize(v_count, rank);
+  if (rank == 0) return {};
+  RangeEncoder encoder;
+  auto contexts = std::make_unique<format::ResidualContexts>();
+  std::vector<int32_t> position(v_count);
+  for (int i = 0; i < v_count; ++i) position[vertex_order[i]] = i;
+  std::vector<int64_t> q(v_count);
+  for (int k = 0; k < rank; ++k) {
+    const int group = format::ResidualColumnGroup(k);
+    for (int i = 0; i < v_count; ++i) {
+      const int v = vertex_order[i];
+      int64_t abs_sum = 0;
+      int coded = 0;
+      for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
+        const int n = topology.ring_neighbors[r];
+        if (position[n] < i) {
+          abs_sum += std::llabs(q[n]);
+          ++coded;
+        }
+      }
+      q[v] = std::llround(delta(v, k) / header.residual_step);
+      encoder.EncodeSigned(contexts->sets[group][format::ResidualActivityBucket(abs_sum, coded)],
+                           q[v]);
+      (*decoded)(v, k) = static_cast<double>(q[v]) * header.residual_step;
+    }
+  }
+  return encoder.Finish();
+}
+
+}  // namespace dmc::syntax

@@ -1,0 +1,53 @@
+// Quantisation and coding of chunk payloads (the mirror of decoder/syntax_reader.h). Each writer
+// returns what the decoder will reconstruct, so the encoder continues in closed loop.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "bitstream/format.h"
+#include "dmc/sequence.h"
+#include "dmc/topology.h"
+#include "entropy/byte_io.h"
+
+namespace dmc::syntax {
+
+// Appends a framed chunk: u8 type, varint size, payload, u32 XXH32(payload, seed = type).
+void AppendChunk(ByteWriter& out, format::ChunkType type, const std::vector<uint8_t>& payload);
+
+std::vector<uint8_t> WriteSequenceHeader(const format::SequenceHeader& header);
+std::vector<uint8_t> WriteConnectivity(const Triangles& triangles);
+std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& header);
+
+// Quantises the mean trajectory with header.mean_step; returns the dequantised trajectory.
+std::vector<uint8_t> WriteMean(const Eigen::VectorXd& mean, const format::SegmentHeader& header,
+                               Eigen::VectorXd* decoded);
+
+// Quantises basis columns (entries in [-1, 1]) to 2^(bits-1)-1 levels and codes them with a
+// per-column first- or second-order temporal prediction (whichever is cheaper); returns the
+// dequantised basis.
+std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::SegmentHeader& header,
+                                Eigen::MatrixXd* decoded);
+
+// Quantises DDL edge weights along the shared weight schedule: explicit weights are rounded to
+// units of 2^-weight_bits, the last weight of each visit is implied by the unit sum. Returns the
+// integer weights the decoder will rebuild.
+std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
+                                     const MeshTopology& topology, int weight_bits,
+                                     std::vector<int64_t>* decoded);
+
+// Codes ascending anchor indices and their coefficients quantised with header.anchor_step;
+// returns the dequantised anchor coefficients.
+std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
+                                  const Eigen::MatrixXd& coefficients,
+                                  const format::SegmentHeader& header,
+                                  Eigen::MatrixXd* decoded_values);
+
+// Quantises delta-trajectories (V×r) with header.residual_step and codes them column by column
+// in `vertex_order`; returns the dequantised deltas.
+std::vector<uint8_t> WriteResiduals(const Eigen::MatrixXd& delta, const MeshTopology& topology,
+                                    const std::vector<int32_t>& vertex_order,
+                                    const format::SegmentHeader& header, Eigen::MatrixXd* decoded);
+
+}  // namespace dmc::syntax
