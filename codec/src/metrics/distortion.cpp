@@ -1,0 +1,96 @@
+// Input checks, option checks, DistortionMeter and MeasureDistortion; see dmc/metrics.h.
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "dmc/metrics.h"
+#include "metrics/metrics_internal.h"
+
+namespace dmc {
+
+namespace metrics_internal {
+
+Status CheckInputs(const MeshSequence& original, const MeshSequence& distorted) {
+  // Comparability first: two sequences of different shapes are a mismatch even when each is
+  // also invalid on its own.
+  DMC_RETURN_IF_ERROR(CheckComparable(original, distorted).WithContext("original vs distorted"));
+  DMC_RETURN_IF_ERROR(ValidateSequence(original).WithContext("original"));
+  DMC_RETURN_IF_ERROR(ValidateSequence(distorted).WithContext("distorted"));
+  return Status::Ok();
+}
+
+}  // namespace metrics_internal
+
+Status ValidateStedOptions(const StedOptions& options) {
+  if (options.width < 0) {
+    return InvalidArgumentError("STED width must be >= 0, got " + std::to_string(options.width));
+  }
+  if (options.window < 1) {
+    return InvalidArgumentError("STED window must be >= 1, got " + std::to_string(options.window));
+  }
+  if (!std::isfinite(options.dt) || options.dt < 0.0) {
+    return InvalidArgumentError("STED dt must be finite and >= 0, got " +
+                                std::to_string(options.dt));
+  }
+  if (!std::isfinite(options.c) || options.c < 0.0) {
+    return InvalidArgumentError("STED c must be finite and >= 0, got " + std::to_string(options.c));
+  }
+  return Status::Ok();
+}
+
+struct DistortionMeter::State {
+  const MeshSequence* original = nullptr;
+  metrics_internal::StedReference sted;
+  metrics_internal::KgReference kg;
+};
+
+StatusOr<DistortionMeter> DistortionMeter::Create(const MeshSequence& original,
+                                                  const StedOptions& options) {
+  DMC_RETURN_IF_ERROR(ValidateStedOptions(options));
+  DMC_RETURN_IF_ERROR(ValidateSequence(original).WithContext("original"));
+  auto state = std::make_shared<State>();
+  state->original = &original;
+  DMC_ASSIGN_OR_RETURN(state->sted, metrics_internal::PrepareSted(original, options));
+  DMC_ASSIGN_OR_RETURN(state->kg, metrics_internal::PrepareKg(original));
+  return DistortionMeter(std::move(state));
+}
+
+StatusOr<DistortionReport> DistortionMeter::Measure(const MeshSequence& distorted) const {
+  const MeshSequence& original = *state_->original;
+  DMC_RETURN_IF_ERROR(CheckComparable(original, distorted).WithContext("original vs distorted"));
+  DMC_RETURN_IF_ERROR(ValidateSequence(distorted).WithContext("distorted"));
+
+  const StedResult sted = metrics_internal::ComputeSted(state_->sted, original, distorted);
+  const metrics_internal::VertexErrorStats errors =
+      metrics_internal::ComputeVertexErrors(original, distorted);
+  const double value_count =
+      static_cast<double>(original.frame_count()) * static_cast<double>(original.vertex_count());
+
+  DistortionReport report;
+  report.kg =
+      100.0 * std::sqrt(errors.squared_sum) / std::sqrt(state_->kg.centroid_deviation_squared);
+  report.sted = sted.sted;
+  report.sted_s = sted.sted_s;
+  report.sted_t = sted.sted_t;
+  report.rmse_rel = std::sqrt(errors.squared_sum / value_count) / state_->kg.bounding_box_diagonal;
+  report.max_error = errors.max_error;
+  report.frames = original.frame_count();
+  report.vertices = original.vertex_count();
+  return report;
+}
+
+const StedOptions& DistortionMeter::options() const { return state_->sted.options; }
+
+double DistortionMeter::diameter() const { return state_->sted.diameter; }
+
+StatusOr<DistortionReport> MeasureDistortion(const MeshSequence& original,
+                                             const MeshSequence& distorted,
+                                             const StedOptions& options) {
+  DMC_RETURN_IF_ERROR(ValidateStedOptions(options));
+  // Mismatches are reported before the (longer) preparation of the original.
+  DMC_RETURN_IF_ERROR(CheckComparable(original, distorted).WithContext("original vs distorted"));
+  DMC_ASSIGN_OR_RETURN(const DistortionMeter meter, DistortionMeter::Create(original, options));
+  return meter.Measure(distorted);
+}
+
+}  // namespace dmc
