@@ -19,5 +19,7 @@ Command AddConvertCommand(CLI::App& parent);
 Command AddSynthCommand(CLI::App& parent);
 Command AddMetricsCommand(CLI::App& parent);
 Command AddLaplacianCommand(CLI::App& parent);
+Command AddEncodeCommand(CLI::App& parent);
+Command AddDecodeCommand(CLI::App& parent);
 
 }  // namespace dmc::cli

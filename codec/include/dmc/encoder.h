@@ -30,7 +30,6 @@ struct EncoderOptions {
   int segment_frames = 0;             // maximum frames per segment; 0 = default
   int weight_bits = 8;                // DDL weight step 2^-weight_bits
   double ddl_regularization = 0.02;   // DDL Tikhonov pull toward Tutte (relative)
-  bool allow_reorder = false;         // let the output use the codec's vertex order
   double target_bpfv = 0.0;           // > 0: search parameters for this rate
   double target_sted = 0.0;           // > 0: search parameters for this distortion
   bool measure = true;                // decode and measure KG/STED

@@ -1,0 +1,230 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "bitstream/syntax.h"
+#include "decoder/range_decoder.h"
+#include "decoder/syntax_reader.h"
+#include "dmc/decoder.h"
+#include "dmc/encoder.h"
+#include "dmc/metrics.h"
+#include "dmc/topology.h"
+#include "encoder/syntax_writer.h"
+#include "test_support.h"
+
+namespace dmc {
+namespace {
+
+// A UV sphere (closed: poles are single vertices) whose surface bends and breathes smoothly over
+// time: a small, realistic stand-in for a deforming character.
+MeshSequence WobblingSphere(int rings, int segments, int frames) {
+  const int v_count = 2 + (rings - 1) * segments;
+  std::vector<std::array<int32_t, 3>> tris;
+  auto ring_vertex = [&](int ring, int s) { return 1 + (ring - 1) * segments + (s % segments); };
+  const int south = v_count - 1;
+  for (int s = 0; s < segments; ++s) {
+    tris.push_back({0, ring_vertex(1, s), ring_vertex(1, s + 1)});
+    for (int r = 1; r + 1 < rings; ++r) {
+      tris.push_back({ring_vertex(r, s), ring_vertex(r + 1, s), ring_vertex(r + 1, s + 1)});
+      tris.push_back({ring_vertex(r, s), ring_vertex(r + 1, s + 1), ring_vertex(r, s + 1)});
+    }
+    tris.push_back({ring_vertex(rings - 1, s), south, ring_vertex(rings - 1, s + 1)});
+  }
+  Triangles triangles(static_cast<Eigen::Index>(tris.size()), 3);
+  for (size_t t = 0; t < tris.size(); ++t) {
+    triangles.row(static_cast<Eigen::Index>(t)) << tris[t][0], tris[t][1], tris[t][2];
+  }
+  MeshSequence seq(v_count, triangles, frames);
+  for (int f = 0; f < frames; ++f) {
+    const double time = 0.1 * f;
+    auto frame = seq.frame(f);
+    for (int v = 0; v < v_count; ++v) {
+      double theta, phi;
+      if (v == 0) {
+        theta = 0.0, phi = 0.0;
+      } else if (v == south) {
+        theta = std::numbers::pi, phi = 0.0;
+      } else {
+        theta = std::numbers::pi * ((v - 1) / segments + 1) / rings;
+        phi = 2.0 * std::numbers::pi * ((v - 1) % segments) / segments;
+      }
+      const double radius = 1.0 + 0.2 * std::sin(2.0 * theta + time) * std::cos(phi - 0.5 * time);
+      const double bend = 0.3 * std::sin(time) * std::cos(theta);
+      const double x = radius * std::sin(theta) * std::cos(phi) + bend;
+      const double y = radius * std::sin(theta) * std::sin(phi);
+      const double z = radius * std::cos(theta) * (1.0 + 0.1 * std::sin(1.3 * time));
+      frame.row(v) << static_cast<float>(x + 0.05 * f), static_cast<float>(y),
+          static_cast<float>(z);
+    }
+  }
+  seq.name = "wobbling-sphere";
+  seq.frame_rate = 25.0;
+  return seq;
+}
+
+EncoderOptions Quick(const std::string& op) {
+  EncoderOptions options;
+  options.operator_name = op;
+  options.residual_bits = 11;
+  return options;
+}
+
+class CodecRoundTrip : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(CodecRoundTrip, DecodesWhatTheEncoderMeasured) {
+  const MeshSequence original = WobblingSphere(16, 24, 20);
+  EncodeReport report;
+  auto bytes = Encode(original, Quick(GetParam()), &report);
+  ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
+  EXPECT_EQ(report.bytes, bytes->size());
+  EXPECT_NEAR(report.bpfv, 8.0 * bytes->size() / (20.0 * original.vertex_count()), 1e-12);
+  ASSERT_TRUE(report.measured);
+
+  auto decoded = Decode(*bytes);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+  EXPECT_EQ(decoded->vertex_count(), original.vertex_count());
+  EXPECT_EQ(decoded->frame_count(), original.frame_count());
+  EXPECT_EQ(decoded->triangles(), original.triangles());
+  EXPECT_EQ(decoded->name, original.name);
+  EXPECT_EQ(decoded->frame_rate, original.frame_rate);
+  auto distortion = MeasureDistortion(original, *decoded);
+  ASSERT_TRUE(distortion.ok());
+  EXPECT_EQ(distortion->kg, report.distortion.kg);
+  EXPECT_EQ(distortion->sted, report.distortion.sted);
+  EXPECT_LT(report.distortion.kg, 1.0);
+  EXPECT_GT(report.rank, 0);
+
+  // Identical bytes on a repeated run.
+  auto again = Encode(original, Quick(GetParam()));
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(*again, *bytes);
+}
+
+INSTANTIATE_TEST_SUITE_P(Operators, CodecRoundTrip, ::testing::Values("ddl", "tutte", "kirchhoff"));
+
+TEST(Codec, RateFallsAndDistortionRisesWithTheStep) {
+  const MeshSequence original = WobblingSphere(14, 20, 16);
+  double previous_bpfv = 1e9, previous_kg = -1.0;
+  for (int bits : {13, 11, 9, 7}) {
+    EncoderOptions options = Quick("ddl");
+    options.residual_bits = bits;
+    options.rank = 12;
+    EncodeReport report;
+    ASSERT_TRUE(Encode(original, options, &report).ok());
+    EXPECT_LT(report.bpfv, previous_bpfv) << "bits " << bits;
+    EXPECT_GT(report.distortion.kg, previous_kg) << "bits " << bits;
+    previous_bpfv = report.bpfv;
+    previous_kg = report.distortion.kg;
+  }
+}
+
+TEST(Codec, SegmentsDecodeIndependently) {
+  const MeshSequence original = WobblingSphere(10, 16, 25);
+  EncoderOptions options = Quick("ddl");
+  options.segment_frames = 10;
+  EncodeReport report;
+  auto bytes = Encode(original, options, &report);
+  ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
+  EXPECT_EQ(report.segments, 3);
+  Decoder decoder;
+  ASSERT_TRUE(decoder.Open(*bytes).ok());
+  ASSERT_EQ(decoder.segment_count(), 3);
+  auto whole = Decode(*bytes);
+  ASSERT_TRUE(whole.ok());
+  int first = 0;
+  for (int s = 0; s < 3; ++s) {
+    auto part = decoder.DecodeSegment(s);
+    ASSERT_TRUE(part.ok());
+    EXPECT_EQ(decoder.info().segments[s].first_frame, first);
+    for (int f = 0; f < part->frame_count(); ++f) {
+      EXPECT_EQ(part->frame(f), whole->frame(first + f));
+    }
+    first += part->frame_count();
+  }
+  EXPECT_EQ(first, 25);
+}
+
+TEST(Codec, SingleFrameSequence) {
+  const MeshSequence original = WobblingSphere(10, 16, 1);
+  EncodeReport report;
+  auto bytes = Encode(original, Quick("ddl"), &report);
+  ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
+  auto decoded = Decode(*bytes);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+  EXPECT_EQ(decoded->frame_count(), 1);
+  EXPECT_LT(report.distortion.kg, 1.0);
+}
+
+TEST(Codec, RejectsImpossibleOptions) {
+  const MeshSequence original = WobblingSphere(6, 8, 3);
+  EncoderOptions options;
+  options.operator_name = "no-such-operator";
+  EXPECT_EQ(Encode(original, options).status().code(), ErrorCode::kNotFound);
+  options = EncoderOptions();
+  options.basis_bits = 1;
+  EXPECT_EQ(Encode(original, options).status().code(), ErrorCode::kInvalidArgument);
+  options = EncoderOptions();
+  options.target_bpfv = 1.0;
+  options.target_sted = 0.01;
+  EXPECT_EQ(Encode(original, options).status().code(), ErrorCode::kInvalidArgument);
+  MeshSequence bad = original;
+  bad.frame(1)(2, 0) = std::nanf("");
+  EXPECT_EQ(Encode(bad, EncoderOptions()).status().code(), ErrorCode::kInvalidSequence);
+}
+
+TEST(Codec, EveryTruncationAndEveryByteFlipIsAnError) {
+  const MeshSequence original = WobblingSphere(6, 8, 4);
+  EncoderOptions options = Quick("ddl");
+  options.measure = false;
+  auto bytes = Encode(original, options);
+  ASSERT_TRUE(bytes.ok());
+  for (size_t length = 0; length < bytes->size(); ++length) {
+    auto result = Decode(std::span<const uint8_t>(bytes->data(), length));
+    ASSERT_FALSE(result.ok()) << "length " << length;
+    const ErrorCode code = result.status().code();
+    EXPECT_TRUE(code == ErrorCode::kTruncatedStream || code == ErrorCode::kCorruptStream)
+        << "length " << length << ": " << result.status().ToString();
+  }
+  for (size_t i = 0; i < bytes->size(); ++i) {
+    std::vector<uint8_t> damaged = *bytes;
+    damaged[i] ^= 0x5a;
+    auto result = Decode(damaged);
+    EXPECT_FALSE(result.ok()) << "flip at " << i;
+  }
+}
+
+TEST(Codec, DdlWeightCoderRoundTripsAndKeepsRowsTranslationInvariant) {
+  const MeshSequence mesh = WobblingSphere(8, 12, 1);
+  const MeshTopology topology = BuildTopology(mesh.triangles(), mesh.vertex_count());
+  std::vector<double> weights(topology.edges.size());
+  for (size_t e = 0; e < weights.size(); ++e) weights[e] = 0.15 + 0.01 * std::sin(0.7 * e);
+  std::vector<int64_t> encoded;
+  const std::vector<uint8_t> payload = syntax::WriteDdlWeights(weights, topology, 8, &encoded);
+  SegmentSyntax syntax;
+  syntax.header.operator_id = static_cast<uint8_t>(OperatorId::kDdl);
+  syntax.header.weight_bits = 8;
+  ASSERT_TRUE(syntax::ReadOperator(payload, topology, syntax).ok());
+  EXPECT_EQ(syntax.edge_weights, encoded);
+  // Explicit weights are the rounded fit; the schedule sends about 2|V| of the 3|V| weights.
+  const auto schedule = format::BuildWeightSchedule(topology);
+  size_t explicit_weights = 0;
+  for (const auto& visit : schedule) explicit_weights += visit.unknown_edges.size() - 1;
+  EXPECT_LT(explicit_weights, topology.edges.size());
+  EXPECT_GT(explicit_weights, topology.edges.size() / 2);
+  auto laplace = RebuildSegmentOperator(topology, syntax);
+  ASSERT_TRUE(laplace.ok());
+  const Eigen::VectorXd row_sums = laplace->matrix * Eigen::VectorXd::Ones(mesh.vertex_count());
+  EXPECT_LT(row_sums.cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(Syntax, RoundDivRoundsHalvesUp) {
+  EXPECT_EQ(format::RoundDiv(7, 2), 4);
+  EXPECT_EQ(format::RoundDiv(-7, 2), -3);
+  EXPECT_EQ(format::RoundDiv(256, 6), 43);
+  EXPECT_EQ(format::RoundDiv(-1, 3), 0);
+  EXPECT_EQ(format::RoundDiv(-2, 3), -1);
+}
+
+}  // namespace
+}  // namespace dmc

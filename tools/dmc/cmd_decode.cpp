@@ -1,0 +1,67 @@
+// dmc decode: reconstruct a mesh sequence from a .dmc stream.
+#include <fmt/format.h>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "dmc/decoder.h"
+#include "dmc/io.h"
+
+namespace dmc::cli {
+namespace {
+
+struct DecodeArgs {
+  std::string input;
+  std::string output;
+  std::string frame_format = "obj";
+  int segment = -1;
+  bool json = false;
+};
+
+int RunDecode(const DecodeArgs& args) {
+  auto bytes = ReadFileBytes(args.input);
+  if (!bytes.ok()) return ReportError("decode", bytes.status(), args.json);
+  StatusOr<MeshSequence> sequence = InternalError("unset");
+  if (args.segment >= 0) {
+    Decoder decoder;
+    const Status open = decoder.Open(*bytes);
+    if (!open.ok()) return ReportError("decode", open.WithContext(args.input), args.json);
+    sequence = decoder.DecodeSegment(args.segment);
+  } else {
+    sequence = Decode(*bytes);
+  }
+  if (!sequence.ok()) {
+    return ReportError("decode", sequence.status().WithContext(args.input), args.json);
+  }
+  WriteOptions write_options;
+  write_options.frame_format = args.frame_format;
+  const Status written = WriteSequence(*sequence, args.output, write_options);
+  if (!written.ok()) return ReportError("decode", written, args.json);
+  if (args.json) {
+    PrintJson({{"output", args.output},
+               {"frames", sequence->frame_count()},
+               {"vertices", sequence->vertex_count()},
+               {"triangles", sequence->triangle_count()}});
+  } else {
+    fmt::print("{}: {} frames x {} vertices, {} triangles\n", args.output,
+               sequence->frame_count(), sequence->vertex_count(), sequence->triangle_count());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command AddDecodeCommand(CLI::App& parent) {
+  auto args = std::make_shared<DecodeArgs>();
+  CLI::App* app = parent.add_subcommand("decode", "Reconstruct a mesh sequence from a .dmc stream");
+  app->add_option("INPUT", args->input, "Input .dmc file")->required();
+  app->add_option("-o,--output", args->output,
+                  "Output: a directory of frames, a .pc2 cache, or a single mesh file")
+      ->required();
+  app->add_option("--frame-format", args->frame_format, "obj, off or ply for frame directories")
+      ->capture_default_str();
+  app->add_option("--segment", args->segment, "Decode only this segment (0-based)");
+  app->add_flag("--json", args->json, "Machine-readable output");
+  return {app, [args] { return RunDecode(*args); }};
+}
+
+}  // namespace dmc::cli

@@ -1,0 +1,120 @@
+// dmc encode: compress a mesh sequence to a .dmc stream and report rate and distortion.
+#include <fmt/format.h>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "dmc/encoder.h"
+#include "dmc/io.h"
+
+namespace dmc::cli {
+namespace {
+
+struct EncodeArgs {
+  std::string input;
+  std::string output;
+  std::string connectivity;
+  EncoderOptions options;
+  bool no_measure = false;
+  bool json = false;
+};
+
+int RunEncode(const EncodeArgs& args) {
+  ReadOptions read_options;
+  read_options.connectivity = args.connectivity;
+  ReadReport read_report;
+  auto sequence = ReadSequence(args.input, read_options, &read_report);
+  if (!sequence.ok()) return ReportError("encode", sequence.status(), args.json);
+  for (const auto& warning : read_report.warnings) ReportWarning("encode", warning);
+  EncoderOptions options = args.options;
+  options.measure = !args.no_measure;
+  EncodeReport report;
+  const Status status = EncodeToFile(*sequence, args.output, options, &report);
+  if (!status.ok()) return ReportError("encode", status, args.json);
+
+  const nlohmann::json breakdown = {
+      {"header", report.header_bytes},    {"connectivity", report.connectivity_bytes},
+      {"mean", report.mean_bytes},        {"basis", report.basis_bytes},
+      {"operator", report.operator_bytes}, {"anchors", report.anchor_bytes},
+      {"residuals", report.residual_bytes}};
+  if (args.json) {
+    nlohmann::json out = {{"bpfv", report.bpfv},
+                          {"bytes", report.bytes},
+                          {"frames", report.frames},
+                          {"vertices", report.vertices},
+                          {"seconds", report.seconds},
+                          {"breakdown", breakdown},
+                          {"operator", options.operator_name},
+                          {"rank", report.rank},
+                          {"anchors", report.anchors},
+                          {"segments", report.segments},
+                          {"residual_step", report.residual_step}};
+    if (report.measured) {
+      out["kg"] = report.distortion.kg;
+      out["sted"] = report.distortion.sted;
+      out["sted_s"] = report.distortion.sted_s;
+      out["sted_t"] = report.distortion.sted_t;
+      out["rmse_rel"] = report.distortion.rmse_rel;
+      out["max_error"] = report.distortion.max_error;
+    } else {
+      out["kg"] = nullptr;
+      out["sted"] = nullptr;
+    }
+    PrintJson(out);
+    return 0;
+  }
+  const double scale = 8.0 / (static_cast<double>(report.frames) * report.vertices);
+  fmt::print("{}: {} frames x {} vertices -> {} bytes, {:.4f} bpfv ({:.2f} s)\n", args.output,
+             report.frames, report.vertices, report.bytes, report.bpfv, report.seconds);
+  fmt::print("  operator {}, rank {}, {} anchors, {} segment(s), residual step {:.4g}\n",
+             options.operator_name, report.rank, report.anchors, report.segments,
+             report.residual_step);
+  if (report.measured) {
+    fmt::print("  KG {:.4f}  STED {:.5f} (spatial {:.5f}, temporal {:.5f})  RMSE/diag {:.3g}\n",
+               report.distortion.kg, report.distortion.sted, report.distortion.sted_s,
+               report.distortion.sted_t, report.distortion.rmse_rel);
+  }
+  fmt::print("  bpfv by element:");
+  for (const auto& [name, bytes] : breakdown.items()) {
+    fmt::print(" {} {:.4f}", name, bytes.get<double>() * scale);
+  }
+  fmt::print("\n");
+  return 0;
+}
+
+}  // namespace
+
+Command AddEncodeCommand(CLI::App& parent) {
+  auto args = std::make_shared<EncodeArgs>();
+  CLI::App* app = parent.add_subcommand("encode", "Compress a mesh sequence to a .dmc stream");
+  app->add_option("INPUT", args->input, "Sequence: frame directory, glob, mesh file or .pc2")
+      ->required();
+  app->add_option("-o,--output", args->output, "Output .dmc file")->required();
+  app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
+  EncoderOptions& o = args->options;
+  app->add_option("--operator", o.operator_name, "Laplace operator: ddl, tutte, kirchhoff")
+      ->capture_default_str();
+  app->add_option("--rank", o.rank, "PCA basis vectors per segment (0 = automatic)")
+      ->capture_default_str();
+  app->add_option("--basis-bits", o.basis_bits, "Basis quantisation bits")->capture_default_str();
+  app->add_option("--residual-bits", o.residual_bits,
+                  "Residual step = bounding-box diagonal * 2^-bits")
+      ->capture_default_str();
+  app->add_option("--residual-step", o.residual_step, "Absolute residual step (overrides bits)");
+  app->add_option("--anchors", o.anchors, "Anchor vertices per segment (-1 = automatic)")
+      ->capture_default_str();
+  app->add_option("--anchor-step-ratio", o.anchor_step_ratio,
+                  "Anchor quantisation step relative to the residual step")
+      ->capture_default_str();
+  app->add_option("--segment-frames", o.segment_frames, "Maximum frames per segment (0 = default)")
+      ->capture_default_str();
+  app->add_option("--weight-bits", o.weight_bits, "DDL weight step 2^-bits")->capture_default_str();
+  app->add_option("--ddl-mu", o.ddl_regularization, "DDL Tikhonov pull toward Tutte")
+      ->capture_default_str();
+  app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");
+  app->add_option("--target-sted", o.target_sted, "Search parameters for this STED");
+  app->add_flag("--no-measure", args->no_measure, "Skip decoding and measuring KG/STED");
+  app->add_flag("--json", args->json, "Machine-readable output");
+  return {app, [args] { return RunEncode(*args); }};
+}
+
+}  // namespace dmc::cli
