@@ -1,0 +1,72 @@
+#include "dmc/pca.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+
+namespace dmc {
+
+Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence) {
+  Eigen::MatrixXd trajectories(sequence.vertex_count(), 3 * sequence.frame_count());
+  for (int f = 0; f < sequence.frame_count(); ++f) {
+    trajectories.middleCols(3 * f, 3) = sequence.frame(f).cast<double>();
+  }
+  return trajectories;
+}
+
+StatusOr<TrajectoryPca> ComputeTrajectoryPca(const MeshSequence& sequence, int rank) {
+  return ComputeTrajectoryPca(TrajectoryMatrix(sequence), rank);
+}
+
+StatusOr<TrajectoryPca> ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories, int rank) {
+  const Eigen::Index v_count = trajectories.rows(), dims = trajectories.cols();
+  if (v_count == 0 || dims == 0) {
+    return InvalidArgumentError("trajectory PCA of an empty sequence");
+  }
+  if (rank < 1) return InvalidArgumentError(fmt::format("PCA rank must be ≥ 1, got {}", rank));
+  if (!trajectories.allFinite()) return InvalidArgumentError("trajectories are not finite");
+  const Eigen::Index kept = std::min<Eigen::Index>({rank, v_count, dims});
+
+  TrajectoryPca pca;
+  pca.mean = trajectories.colwise().mean();
+  const Eigen::MatrixXd centred = trajectories.rowwise() - pca.mean;
+
+  if (dims <= v_count) {
+    // 3F×3F Gram matrix; only its lower triangle is formed (a symmetric rank-V update).
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(dims, dims);
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);  // reads the lower triangle
+    // Eigen sorts ascending; the principal directions are the last columns.
+    pca.eigenvalues = eigen.eigenvalues().reverse().cwiseMax(0.0);
+    pca.basis = eigen.eigenvectors().rightCols(kept).rowwise().reverse();
+  } else {
+    // More coordinates than vertices: the V×V Gram XcXcᵀ shares the nonzero spectrum, and
+    // B = Xcᵀ·U·Σ⁻¹ recovers the principal directions.
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(v_count, v_count);
+    gram.selfadjointView<Eigen::Lower>().rankUpdate(centred);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
+    pca.eigenvalues = eigen.eigenvalues().reverse().cwiseMax(0.0);
+    const Eigen::MatrixXd u = eigen.eigenvectors().rightCols(kept).rowwise().reverse();
+    pca.basis = centred.transpose() * u;
+    for (Eigen::Index c = 0; c < kept; ++c) {
+      const double norm = pca.basis.col(c).norm();
+      // A zero-variance direction has no defined basis vector; keep a zero column, whose
+      // coefficients are then zero as well.
+      if (norm > 0.0) pca.basis.col(c) /= norm;
+    }
+  }
+  for (Eigen::Index c = 0; c < kept; ++c) {
+    Eigen::Index largest = 0;
+    pca.basis.col(c).cwiseAbs().maxCoeff(&largest);
+    if (pca.basis(largest, c) < 0.0) pca.basis.col(c) *= -1.0;
+  }
+  pca.coefficients = centred * pca.basis;
+  return pca;
+}
+
+Eigen::MatrixXd ReconstructTrajectories(const TrajectoryPca& pca) {
+  return (pca.coefficients * pca.basis.transpose()).rowwise() + pca.mean;
+}
+
+}  // namespace dmc

@@ -1,0 +1,94 @@
+// Decoder-side dispatch from a wire ID to the builder of that operator.
+#include <string>
+
+#include "dmc/operators.h"
+
+namespace dmc {
+namespace {
+
+struct IdName {
+  OperatorId id;
+  std::string_view name;
+};
+// Wire IDs and registry names; the registry (dmc_fitting) uses the same names.
+constexpr IdName kIdNames[] = {
+    {OperatorId::kKirchhoff, "kirchhoff"},
+    {OperatorId::kTutte, "tutte"},
+    {OperatorId::kCotan, "cotan"},
+    {OperatorId::kCotanArea, "cotan-area"},
+    {OperatorId::kCotanSym, "cotan-sym"},
+    {OperatorId::kMeanValue, "mean-value"},
+    {OperatorId::kDdl, "ddl"},
+    {OperatorId::kDdlAsym, "ddl-asym"},
+};
+
+std::string KnownIds() {
+  std::string list;
+  for (const IdName& entry : kIdNames) {
+    if (!list.empty()) list += ", ";
+    list += std::to_string(static_cast<int>(entry.id)) + " (" + std::string(entry.name) + ")";
+  }
+  return list;
+}
+
+}  // namespace
+
+std::string_view OperatorIdName(OperatorId id) {
+  for (const IdName& entry : kIdNames) {
+    if (entry.id == id) return entry.name;
+  }
+  return {};
+}
+
+StatusOr<LaplaceOperator> RebuildOperator(OperatorId id, const MeshTopology& topology,
+                                          const FramePositionsD* reference_frame,
+                                          const OperatorWeights* weights) {
+  const std::string_view name = OperatorIdName(id);
+  if (name.empty()) {
+    return NotFoundError("unknown operator ID " + std::to_string(static_cast<int>(id)) +
+                         "; known IDs: " + KnownIds());
+  }
+  auto need_frame = [&]() -> Status {
+    if (reference_frame == nullptr) {
+      return InvalidArgumentError("operator " + std::string(name) + " needs a reference frame");
+    }
+    return Status::Ok();
+  };
+  auto need_weights = [&](WeightLayout layout) -> Status {
+    if (weights == nullptr || weights->layout != layout) {
+      return InvalidArgumentError(
+          "operator " + std::string(name) + " needs " +
+          (layout == WeightLayout::kPerEdge ? "per-edge" : "per-directed-edge") + " weights");
+    }
+    return Status::Ok();
+  };
+  switch (id) {
+    case OperatorId::kKirchhoff:
+      return BuildKirchhoff(topology);
+    case OperatorId::kTutte:
+      return BuildTutte(topology);
+    case OperatorId::kCotan:
+      DMC_RETURN_IF_ERROR(need_frame());
+      return BuildCotan(topology, *reference_frame);
+    case OperatorId::kCotanArea:
+      DMC_RETURN_IF_ERROR(need_frame());
+      return BuildCotanArea(topology, *reference_frame);
+    case OperatorId::kCotanSym:
+      DMC_RETURN_IF_ERROR(need_frame());
+      return BuildCotanSym(topology, *reference_frame);
+    case OperatorId::kMeanValue:
+      DMC_RETURN_IF_ERROR(need_frame());
+      return BuildMeanValue(topology, *reference_frame);
+    case OperatorId::kDdl:
+      DMC_RETURN_IF_ERROR(need_weights(WeightLayout::kPerEdge));
+      return OperatorFromWeights("ddl", topology, *weights, true);
+    case OperatorId::kDdlAsym:
+      DMC_RETURN_IF_ERROR(need_weights(WeightLayout::kPerDirectedEdge));
+      return OperatorFromWeights("ddl-asym", topology, *weights, true);
+    case OperatorId::kInvalid:
+      break;
+  }
+  return NotFoundError("operator ID 0 is reserved as invalid; known IDs: " + KnownIds());
+}
+
+}  // namespace dmc
