@@ -1,0 +1,102 @@
+// Reading and writing mesh sequences: per-frame OBJ/OFF/PLY files and PC2 point caches.
+//
+// Contracts shared by every function here:
+//  - Vertex order and triangle order are kept exactly as they are in the file; nothing is merged,
+//    dropped or reordered (isolated vertices stay, degenerate triangles stay and are reported by
+//    ValidateSequence). Faces with more than three corners are fan-triangulated from their first
+//    corner, (c0, c1, c2), (c0, c2, c3), ..., in file order, with a warning.
+//  - Written coordinates use the shortest decimal form that reads back to the identical float, so
+//    write-then-read is bit-exact.
+//  - Errors name what is at fault: parse errors are "<path>:<line>: <what>" (kParseError); frames
+//    that disagree with frame 0 are "frame 7 (<path>): 9970 vertices, expected 9971" (kMismatch);
+//    non-finite coordinates are "frame 3 (<path>), vertex 12: coordinate y is not finite"
+//    (kInvalidSequence); files that cannot be opened, read or written give kIoError.
+//  - Writers never leave a half-written output and never destroy an existing output on failure:
+//    they write to a temporary sibling and rename it into place.
+//
+// Why not OpenMesh's readers throughout: OpenMesh 9's OBJ, OFF and ASCII PLY readers return success
+// on malformed files (an OBJ "v 1 2" line is silently dropped, shifting every later index; an OFF
+// or ASCII PLY token "abc" or a truncated face list yields uninitialised or repeated values), and
+// OpenMesh's default importer drops faces with a repeated corner and re-creates vertices of
+// non-manifold faces at the end. So OBJ, OFF and ASCII PLY are parsed by small strict parsers here,
+// and binary PLY (where OpenMesh does detect truncation) goes through OpenMesh's PLY reader with an
+// importer that records vertices and faces verbatim. The OBJ writer of OpenMesh prints fixed-point
+// with 9 decimals, which loses small values, so the writers are ours too.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+
+namespace dmc {
+
+// Called as frames are read or written: (frames done, frames in all). May be empty. Frames are
+// read on several threads; the callback is invoked by one of them at a time, never concurrently.
+using IoProgressCallback = std::function<void(int done, int total)>;
+
+struct ReadOptions {
+  // PC2 only: the mesh file whose triangles (and vertex count) the cache uses. Empty means the
+  // first of <stem>.obj, <stem>.off, <stem>.ply beside the cache that exists.
+  std::filesystem::path connectivity;
+  int max_frames = 0;  // read at most this many frames (the first ones); 0 = all
+  int threads = 0;     // frame files parsed concurrently: 0 = one per hardware thread, 1 = serial
+  IoProgressCallback progress;
+};
+
+// Non-fatal findings of a read, one sentence each, e.g.
+// "frame 0 (x.obj): 752 faces with more than 3 corners were fan-triangulated into 1504 triangles".
+struct ReadReport {
+  std::vector<std::string> warnings;
+};
+
+// Reads a mesh sequence. INPUT is one of:
+//  - a directory holding per-frame .obj, .off or .ply files (one format; other files are ignored),
+//    taken in natural order (2.obj before 10.obj); hidden files (".name") are skipped;
+//  - a glob pattern whose last component has wildcards (* ? [...]), e.g. "dir/mesh_*.obj",
+//    matched files taken in natural order;
+//  - a single .obj/.off/.ply file (a 1-frame sequence);
+//  - a .pc2 point cache, with triangles from options.connectivity (see ReadOptions).
+// Extensions are matched case-insensitively. Every frame must have frame 0's vertex count and
+// triangle list (kMismatch otherwise). The result has passed ValidateSequence; its degenerate
+// triangle warning, if any, is added to `report`. `name` is the input's stem (or directory name).
+// frame_rate comes from a "dmc frame_rate <fps>" comment that WriteSequence puts in frame files
+// (0 when absent); for PC2 see ReadPc2's note in the implementation: the cache's sampleRate is the
+// spacing of samples in scene frames, so fps = (connectivity file's frame_rate) / sampleRate when
+// the former is known, else 0.
+StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input,
+                                    const ReadOptions& options = {}, ReadReport* report = nullptr);
+
+struct WriteOptions {
+  std::string frame_format = "obj";  // obj | off | ply: per-frame file format for directories
+  IoProgressCallback progress;
+};
+
+// Writes a sequence (which must pass ValidateSequence). OUTPUT is interpreted by its extension:
+//  - .pc2: the point cache (startFrame 0, sampleRate 1: one sample per frame) plus <stem>.obj
+//    beside it holding the triangles and frame 0;
+//  - .obj/.off/.ply: a single mesh file; the sequence must have exactly one frame;
+//  - anything else: a directory of frame_0000.<fmt>, frame_0001.<fmt>, ... (at least 4 digits,
+//    more when there are 10000 frames or more). An existing directory is replaced only when it
+//    holds nothing but frame files (so a typo cannot wipe an unrelated folder).
+// frame_rate > 0 is recorded as a "dmc frame_rate" comment so ReadSequence gets it back.
+Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output,
+                     const WriteOptions& options = {});
+
+// Natural order of file names: runs of digits compare by numeric value ("2" < "10"), everything
+// else byte by byte; names that only differ in leading zeros ("007" vs "7") fall back to plain
+// byte order. A strict total order on distinct strings, usable with std::sort.
+bool NaturalLess(std::string_view a, std::string_view b);
+
+// Writes `bytes` to `path` through a temporary file in the same directory that is flushed to disk
+// and renamed over `path`. On any failure the temporary file is removed and an existing `path` is
+// left untouched (kIoError naming the path and the system's reason).
+Status WriteFileAtomically(const std::filesystem::path& path, std::span<const uint8_t> bytes);
+
+}  // namespace dmc

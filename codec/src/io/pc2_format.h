@@ -1,0 +1,43 @@
+// Internal: PC2 point caches (Blender / 3ds Max / Maya "POINTCACHE2").
+//
+// Layout, little-endian: char[12] "POINTCACHE2\0", int32 version (1), int32 numPoints,
+// float32 startFrame, float32 sampleRate, int32 numSamples, then numSamples x numPoints x
+// float32[3]. startFrame and sampleRate are in the authoring tool's time unit, normally scene
+// frames: sampleRate is the spacing of two samples (1 = one sample per frame), not a rate in Hz.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+
+namespace dmc::io_internal {
+
+struct Pc2Header {
+  int32_t point_count = 0;
+  float start_frame = 0.0f;
+  float sample_rate = 1.0f;
+  int32_t sample_count = 0;
+};
+
+inline constexpr size_t kPc2HeaderBytes = 32;
+
+// Parses and checks a header against the size of the file it came from: the declared samples
+// must fill the file exactly (kParseError naming both sizes otherwise), version must be 1
+// (kUnsupported).
+StatusOr<Pc2Header> ParsePc2Header(const uint8_t* bytes, size_t size, uint64_t file_size);
+
+// Reads the first `frame_count` samples of `path` (header already checked) into `sequence`,
+// whose vertex count must be header.point_count and frame count `frame_count`.
+Status ReadPc2Samples(const std::filesystem::path& path, const Pc2Header& header,
+                      MeshSequence& sequence);
+
+// Reads and checks the header of `path`.
+StatusOr<Pc2Header> ReadPc2Header(const std::filesystem::path& path);
+
+// The whole cache for a sequence: startFrame 0, sampleRate 1, one sample per frame.
+std::string EncodePc2(const MeshSequence& sequence);
+
+}  // namespace dmc::io_internal

@@ -1,0 +1,406 @@
+// PLY: the header is parsed here (it decides the path and gives the declared counts); ASCII bodies
+// are parsed strictly here; binary bodies (little or big endian) are read by OpenMesh's PLY reader
+// through VerbatimImporter, then checked against the header's counts.
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+#include <algorithm>
+#include <mutex>
+#include <sstream>
+#include <string>
+
+#include "io/mesh_formats.h"
+#include "io/text_scanner.h"
+
+namespace dmc::io_internal {
+namespace {
+
+enum class PlyEncoding { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+enum class PlyNumber { kInteger, kReal, kUnknown };
+
+struct PlyProperty {
+  std::string name;
+  PlyNumber value_kind = PlyNumber::kReal;
+  bool is_list = false;  // the count of a list is always an integer
+};
+
+struct PlyElement {
+  std::string name;
+  int64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+struct PlyHeader {
+  PlyEncoding encoding = PlyEncoding::kAscii;
+  std::vector<PlyElement> elements;
+  size_t body_offset = 0;  // first byte after the "end_header" line
+  int body_first_line = 0;
+  double frame_rate = 0.0;
+};
+
+PlyNumber NumberKind(std::string_view type) {
+  for (std::string_view integer : {"char", "uchar", "short", "ushort", "int", "uint", "int8",
+                                   "uint8", "int16", "uint16", "int32", "uint32"}) {
+    if (type == integer) return PlyNumber::kInteger;
+  }
+  for (std::string_view real : {"float", "double", "float32", "float64"}) {
+    if (type == real) return PlyNumber::kReal;
+  }
+  return PlyNumber::kUnknown;
+}
+
+Status LineError(int line, const std::string& what) {
+  return ParseError("line " + std::to_string(line) + ": " + what);
+}
+
+StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
+  PlyHeader header;
+  LineReader lines(bytes);
+  std::string_view line;
+  if (!lines.Next(line) || line != "ply") {
+    return ParseError("line 1: expected the PLY magic 'ply'");
+  }
+  bool have_format = false;
+  while (true) {
+    if (!lines.Next(line)) return ParseError("the header has no 'end_header' line");
+    TokenReader tokens(line);
+    std::string_view keyword, token;
+    if (!tokens.Next(keyword)) continue;
+    if (keyword == "end_header") break;
+    if (keyword == "comment" || keyword == "obj_info") {
+      std::string_view word, value;
+      double parsed = 0.0;
+      if (keyword == "comment" && tokens.Next(word) && word == "dmc" && tokens.Next(word) &&
+          word == "frame_rate" && tokens.Next(value) && ParseNumber(value, parsed) &&
+          parsed > 0.0) {
+        header.frame_rate = parsed;
+      }
+      continue;
+    }
+    if (keyword == "format") {
+      std::string_view encoding, version;
+      if (!tokens.Next(encoding) || !tokens.Next(version) || version != "1.0") {
+        return LineError(lines.line_number(), "expected 'format <encoding> 1.0'");
+      }
+      if (encoding == "ascii") {
+        header.encoding = PlyEncoding::kAscii;
+      } else if (encoding == "binary_little_endian") {
+        header.encoding = PlyEncoding::kBinaryLittleEndian;
+      } else if (encoding == "binary_big_endian") {
+        header.encoding = PlyEncoding::kBinaryBigEndian;
+      } else {
+        return LineError(lines.line_number(), "unknown PLY encoding " + Quote(encoding));
+      }
+      have_format = true;
+    } else if (keyword == "element") {
+      PlyElement element;
+      std::string_view name;
+      if (!tokens.Next(name) || !tokens.Next(token) || !ParseNumber(token, element.count) ||
+          element.count < 0 || element.count > INT32_MAX / 3) {
+        return LineError(lines.line_number(), "expected 'element <name> <count>'");
+      }
+      element.name = std::string(name);
+      header.elements.push_back(std::move(element));
+    } else if (keyword == "property") {
+      if (header.elements.empty()) {
+        return LineError(lines.line_number(), "property before any element");
+      }
+      PlyProperty property;
+      std::string_view type, name;
+      if (!tokens.Next(type)) return LineError(lines.line_number(), "property without a type");
+      if (type == "list") {
+        std::string_view count_type;
+        property.is_list = true;
+        if (!tokens.Next(count_type) || NumberKind(count_type) != PlyNumber::kInteger ||
+            !tokens.Next(type)) {
+          return LineError(lines.line_number(),
+                           "expected 'property list <integer type> <type> <name>'");
+        }
+      }
+      property.value_kind = NumberKind(type);
+      if (property.value_kind == PlyNumber::kUnknown || !tokens.Next(name)) {
+        return LineError(lines.line_number(), "expected 'property <type> <name>' with a PLY type");
+      }
+      property.name = std::string(name);
+      header.elements.back().properties.push_back(std::move(property));
+    } else {
+      return LineError(lines.line_number(), "unknown header line " + Quote(keyword));
+    }
+  }
+  if (!have_format) return ParseError("the header has no 'format' line");
+  header.body_offset = lines.position();
+  header.body_first_line = lines.line_number() + 1;
+  return header;
+}
+
+// Tokens of an ASCII body, across lines, with the line each came from.
+class BodyTokens {
+ public:
+  BodyTokens(std::string_view body, int first_line)
+      : lines_(body), first_line_(first_line), tokens_("") {}
+
+  bool Next(std::string_view& token) {
+    while (!tokens_.Next(token)) {
+      std::string_view line;
+      if (!lines_.Next(line)) return false;
+      tokens_ = TokenReader(line);
+    }
+    return true;
+  }
+  int line() const { return first_line_ + std::max(lines_.line_number() - 1, 0); }
+
+ private:
+  LineReader lines_;
+  int first_line_;
+  TokenReader tokens_;
+};
+
+StatusOr<MeshFileData> ParseAsciiBody(std::string_view body, const PlyHeader& header) {
+  MeshFileData mesh;
+  BodyTokens tokens(body, header.body_first_line);
+  std::vector<int32_t> corners;
+  int64_t vertex_count = 0;
+  for (const PlyElement& element : header.elements) {
+    if (element.name == "vertex") vertex_count = element.count;
+  }
+  // Coordinates come from the file: grow with what is actually read rather than trusting the
+  // declared count with one big allocation.
+  mesh.positions.reserve(std::min<size_t>(static_cast<size_t>(vertex_count) * 3, size_t{1} << 22));
+  for (const PlyElement& element : header.elements) {
+    const bool is_vertex = element.name == "vertex";
+    const bool is_face = element.name == "face";
+    for (int64_t i = 0; i < element.count; ++i) {
+      corners.clear();
+      if (is_vertex) mesh.positions.resize(mesh.positions.size() + 3, 0.0f);
+      for (const PlyProperty& property : element.properties) {
+        std::string_view token;
+        int64_t values = 1;
+        if (property.is_list) {
+          if (!tokens.Next(token)) {
+            return ParseError("the body ends inside element '" + element.name + "' " +
+                              std::to_string(i) + " of " + std::to_string(element.count));
+          }
+          if (!ParseNumber(token, values) || values < 0) {
+            return LineError(tokens.line(), "list count " + Quote(token) + " of property '" +
+                                                property.name + "' is not a non-negative integer");
+          }
+        }
+        const bool is_corner_list =
+            is_face && property.is_list &&
+            (property.name == "vertex_indices" || property.name == "vertex_index");
+        int axis = -1;  // 0, 1, 2 for the vertex coordinates x, y, z
+        if (is_vertex && !property.is_list && property.name.size() == 1) {
+          const size_t found = std::string_view("xyz").find(property.name[0]);
+          if (found != std::string_view::npos) axis = static_cast<int>(found);
+        }
+        for (int64_t k = 0; k < values; ++k) {
+          if (!tokens.Next(token)) {
+            return ParseError("the body ends inside element '" + element.name + "' " +
+                              std::to_string(i) + " of " + std::to_string(element.count));
+          }
+          bool ok = false;
+          if (axis >= 0) {
+            ok = ParseNumber(
+                token, mesh.positions[static_cast<size_t>(i) * 3 + static_cast<size_t>(axis)]);
+          } else if (property.value_kind == PlyNumber::kInteger) {
+            int64_t value = 0;
+            ok = ParseNumber(token, value);
+            if (ok && is_corner_list) {
+              if (value < 0 || value >= vertex_count) {
+                return LineError(tokens.line(),
+                                 "face index " + std::to_string(value) + " is outside [0, " +
+                                     std::to_string(std::max<int64_t>(vertex_count, 0)) + ")");
+              }
+              corners.push_back(static_cast<int32_t>(value));
+            }
+          } else {
+            double value = 0.0;
+            ok = ParseNumber(token, value);
+          }
+          if (!ok) {
+            return LineError(
+                tokens.line(),
+                "value " + Quote(token) + " of property '" + property.name + "' is not " +
+                    (property.value_kind == PlyNumber::kInteger ? "an integer" : "a number"));
+          }
+        }
+        if (is_corner_list) {
+          if (corners.size() < 3) {
+            return LineError(tokens.line(), "face has " + std::to_string(corners.size()) +
+                                                " corner(s), at least 3 are needed");
+          }
+          if (corners.size() > 3) ++mesh.polygons_triangulated;
+          AppendFan(corners, mesh);
+        }
+      }
+    }
+  }
+  std::string_view extra;
+  if (tokens.Next(extra)) {
+    return LineError(tokens.line(), "unexpected content after the last declared element");
+  }
+  return mesh;
+}
+
+// Collects what OpenMesh's readers report, in call order, without building connectivity (so no
+// face is dropped or split and no vertex is duplicated, unlike OpenMesh's ImporterT).
+class VerbatimImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  using VertexHandle = OpenMesh::VertexHandle;
+  using FaceHandle = OpenMesh::FaceHandle;
+  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
+  using EdgeHandle = OpenMesh::EdgeHandle;
+  using StatusInfo = OpenMesh::Attributes::StatusInfo;
+  using Vec2f = OpenMesh::Vec2f;
+  using Vec3f = OpenMesh::Vec3f;
+  using Vec3d = OpenMesh::Vec3d;
+  using Vec4f = OpenMesh::Vec4f;
+  using Vec3uc = OpenMesh::Vec3uc;
+  using Vec4uc = OpenMesh::Vec4uc;
+
+  std::vector<float> positions;
+  std::vector<std::vector<int32_t>> faces;
+
+  VertexHandle add_vertex(const Vec3f& point) override {
+    positions.insert(positions.end(), {point[0], point[1], point[2]});
+    return VertexHandle(static_cast<int>(positions.size() / 3) - 1);
+  }
+  VertexHandle add_vertex(const Vec3d& point) override {
+    return add_vertex(Vec3f(static_cast<float>(point[0]), static_cast<float>(point[1]),
+                            static_cast<float>(point[2])));
+  }
+  VertexHandle add_vertex() override { return add_vertex(Vec3f(0.0f, 0.0f, 0.0f)); }
+  void set_point(VertexHandle vertex, const Vec3f& point) override {
+    const size_t base = static_cast<size_t>(vertex.idx()) * 3;
+    if (vertex.idx() >= 0 && base + 2 < positions.size()) {
+      std::copy(point.data(), point.data() + 3, positions.begin() + base);
+    }
+  }
+  FaceHandle add_face(const VHandles& corners) override {
+    std::vector<int32_t>& face = faces.emplace_back();
+    for (const VertexHandle& corner : corners) face.push_back(corner.idx());
+    return FaceHandle(static_cast<int>(faces.size()) - 1);
+  }
+  size_t n_vertices() const override { return positions.size() / 3; }
+  size_t n_faces() const override { return faces.size(); }
+  size_t n_edges() const override { return 0; }
+
+  // Connectivity and attributes that a mesh sequence does not keep.
+  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
+  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
+  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
+  void set_face_texindex(FaceHandle, int) override {}
+  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
+  void set_normal(VertexHandle, const Vec3f&) override {}
+  void set_normal(VertexHandle, const Vec3d&) override {}
+  void set_color(VertexHandle, const Vec3uc&) override {}
+  void set_color(VertexHandle, const Vec4uc&) override {}
+  void set_color(VertexHandle, const Vec3f&) override {}
+  void set_color(VertexHandle, const Vec4f&) override {}
+  void set_texcoord(VertexHandle, const Vec2f&) override {}
+  void set_status(VertexHandle, const StatusInfo&) override {}
+  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
+  void set_face(HalfedgeHandle, FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
+  void set_texcoord(VertexHandle, const Vec3f&) override {}
+  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
+  void set_status(HalfedgeHandle, const StatusInfo&) override {}
+  void set_color(EdgeHandle, const Vec3uc&) override {}
+  void set_color(EdgeHandle, const Vec4uc&) override {}
+  void set_color(EdgeHandle, const Vec3f&) override {}
+  void set_color(EdgeHandle, const Vec4f&) override {}
+  void set_status(EdgeHandle, const StatusInfo&) override {}
+  void set_normal(FaceHandle, const Vec3f&) override {}
+  void set_normal(FaceHandle, const Vec3d&) override {}
+  void set_color(FaceHandle, const Vec3uc&) override {}
+  void set_color(FaceHandle, const Vec4uc&) override {}
+  void set_color(FaceHandle, const Vec3f&) override {}
+  void set_color(FaceHandle, const Vec4f&) override {}
+  void set_status(FaceHandle, const StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+};
+
+// OpenMesh's reader modules are process-wide singletons with per-read member state, so concurrent
+// reads must not overlap; its diagnostics (omerr) are muted during our call since we report our
+// own, more precise, errors.
+std::mutex& OpenMeshReaderMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& header) {
+  VerbatimImporter importer;
+  bool read_ok = false;
+  {
+    std::lock_guard<std::mutex> lock(OpenMeshReaderMutex());
+    std::istringstream stream(std::string(bytes), std::ios::in | std::ios::binary);
+    OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary;
+    if (header.encoding == PlyEncoding::kBinaryBigEndian) options += OpenMesh::IO::Options::MSB;
+    const bool errors_enabled = omerr().is_enabled();
+    omerr().disable();
+    read_ok = OpenMesh::IO::IOManager().read(stream, "ply", importer, options);
+    if (errors_enabled) omerr().enable();
+  }
+  int64_t declared_vertices = 0, declared_faces = 0;
+  for (const PlyElement& element : header.elements) {
+    if (element.name == "vertex") declared_vertices = element.count;
+    if (element.name == "face") declared_faces = element.count;
+  }
+  if (!read_ok) {
+    return ParseError("the binary PLY body is truncated or malformed (OpenMesh's reader failed)");
+  }
+  if (static_cast<int64_t>(importer.n_vertices()) != declared_vertices ||
+      static_cast<int64_t>(importer.n_faces()) != declared_faces) {
+    return ParseError("the binary PLY body holds " + std::to_string(importer.n_vertices()) +
+                      " vertices and " + std::to_string(importer.n_faces()) +
+                      " faces, the header declares " + std::to_string(declared_vertices) + " and " +
+                      std::to_string(declared_faces));
+  }
+  MeshFileData mesh;
+  mesh.positions = std::move(importer.positions);
+  for (size_t f = 0; f < importer.faces.size(); ++f) {
+    const std::vector<int32_t>& face = importer.faces[f];
+    if (face.size() < 3) {
+      return ParseError("face " + std::to_string(f) + " has " + std::to_string(face.size()) +
+                        " corner(s), at least 3 are needed");
+    }
+    for (int32_t index : face) {
+      if (index < 0 || index >= declared_vertices) {
+        return ParseError("face " + std::to_string(f) + " refers to vertex " +
+                          std::to_string(index) + ", outside [0, " +
+                          std::to_string(declared_vertices) + ")");
+      }
+    }
+    if (face.size() > 3) ++mesh.polygons_triangulated;
+    AppendFan(face, mesh);
+  }
+  return mesh;
+}
+
+}  // namespace
+
+StatusOr<MeshFileData> ParsePly(std::string_view bytes) {
+  DMC_ASSIGN_OR_RETURN(const PlyHeader header, ParsePlyHeader(bytes));
+  const PlyElement* vertices = nullptr;
+  for (const PlyElement& element : header.elements) {
+    if (element.name == "vertex") vertices = &element;
+  }
+  if (vertices == nullptr) return ParseError("the header declares no 'vertex' element");
+  for (char axis : {'x', 'y', 'z'}) {
+    const bool found = std::any_of(
+        vertices->properties.begin(), vertices->properties.end(),
+        [&](const PlyProperty& p) { return !p.is_list && p.name == std::string(1, axis); });
+    if (!found) {
+      return ParseError(std::string("the 'vertex' element has no scalar property '") + axis + "'");
+    }
+  }
+  StatusOr<MeshFileData> mesh = header.encoding == PlyEncoding::kAscii
+                                    ? ParseAsciiBody(bytes.substr(header.body_offset), header)
+                                    : ParseBinaryBody(bytes, header);
+  if (mesh.ok()) mesh->frame_rate = header.frame_rate;
+  return mesh;
+}
+
+}  // namespace dmc::io_internal
