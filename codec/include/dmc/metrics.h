@@ -88,16 +88,18 @@ struct DistortionReport {
 };
 
 // Largest Euclidean distance between two rows of `points` (0 for fewer than two points), computed
-// in double. The result is exactly the brute-force maximum over all pairs of
-// sqrt(dx·dx + dy·dy + dz·dz), with d the difference of the double-converted coordinates.
+// in double; coordinates must be finite. The result is exactly the brute-force maximum over all
+// pairs of sqrt(dx·dx + dy·dy + dz·dz), with d the difference of the double-converted coordinates.
 //
 // Algorithm: a strong lower bound first (the extreme points along 7 directions, refined by a few
-// farthest-point steps), then a branch-and-bound over pairs of nodes of a kd-tree whose boxes
-// give an upper bound on the distance of any pair they hold; a pair of nodes is dropped as soon
-// as its bound cannot beat the best distance found. The bound is evaluated with the same
-// monotone floating-point operations as the point distance, so pruning never drops the true
-// maximum. Typical meshes take O(n log n); points spread evenly on a sphere are the worst case,
-// about O(n^1.5).
+// farthest-point steps), then a depth-first branch-and-bound over pairs of nodes of a lazily built
+// kd-tree. Each node bounds its points by an axis-aligned box and by an oriented box in their
+// principal frame (thin on curved surfaces); either gives an upper bound on the distance of any
+// pair the two nodes hold, and a node pair is dropped as soon as a bound cannot beat the best
+// distance found. The bounds are evaluated so that rounding can only loosen them (see
+// src/metrics/diameter.cpp), so pruning never drops the true maximum. Elongated shapes (bodies,
+// animals) touch a few hundred nodes: about 20 ms for 200k points, mostly the two linear passes.
+// Points evenly spread on a perfect sphere are the worst case, about 0.7 s for 200k points.
 double PointSetDiameter(const Eigen::Ref<const FramePositions>& points);
 
 // KG error of `distorted` against `original`. Errors as listed at the top.

@@ -112,6 +112,29 @@ TEST(Diameter, EqualsBruteForceOnRandomClouds) {
   }
 }
 
+TEST(Diameter, EqualsBruteForceOnCurvedSurfacesAwayFromTheOrigin) {
+  // Near-spheres (the hard case for the pruning), ellipsoids and small clouds far from the
+  // origin, where rounding is relative to the large coordinates rather than to the cloud.
+  std::mt19937 rng(99);
+  std::normal_distribution<double> g;
+  const Eigen::Vector3d stretches[] = {{1, 1, 1}, {1, 1, 1.01}, {0.3, 1.8, 0.5}};
+  const Eigen::Vector3d offsets[] = {{0, 0, 0}, {1000, -2000, 500}, {3e4, 0, 0}};
+  for (const auto& stretch : stretches) {
+    for (const auto& offset : offsets) {
+      for (double radius : {1e-3, 1.0, 50.0}) {
+        FramePositions points(2000, 3);
+        for (int i = 0; i < points.rows(); ++i) {
+          const Eigen::Vector3d p = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+          points.row(i) = (radius * p.cwiseProduct(stretch) + offset).cast<float>().transpose();
+        }
+        EXPECT_EQ(PointSetDiameter(points), BruteForceDiameter(points))
+            << "stretch " << stretch.transpose() << " offset " << offset.transpose() << " radius "
+            << radius;
+      }
+    }
+  }
+}
+
 TEST(Diameter, EqualsBruteForceWithExactTies) {
   for (int n : {4, 64, 1000, 2048}) {
     const FramePositions circle = OnCircle(n);
