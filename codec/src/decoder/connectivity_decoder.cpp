@@ -1,0 +1,347 @@
+#include "decoder/connectivity_decoder.h"
+
+#include <draco/compression/decode.h>
+#include <draco/mesh/mesh.h>
+
+#include <algorithm>
+#include <array>
+#include <queue>
+#include <string>
+#include <utility>
+
+#include "decoder/range_decoder.h"
+#include "entropy/byte_io.h"
+
+namespace dmc {
+namespace connectivity {
+namespace {
+
+// Draco bitstream 2.2 header of a triangular mesh coded with edgebreaker and no metadata:
+// "DRACO", major 2, minor 2, geometry type 1 (TRIANGULAR_MESH), method 1 (MESH_EDGEBREAKER),
+// u16 flags 0.
+constexpr std::array<uint8_t, 11> kDracoHeader = {'D', 'R', 'A', 'C', 'O', 2, 2, 1, 1, 0, 0};
+// Edgebreaker traversal decoders Draco may have chosen: standard (0) or valence (2).
+constexpr uint8_t kDracoStandardTraversal = 0;
+constexpr uint8_t kDracoValenceTraversal = 2;
+
+std::string ToString(int64_t value) { return std::to_string(value); }
+
+// Index of edge (a, b) in the topology, or -1. One-rings are sorted, so a binary search suffices.
+int32_t FindEdge(const MeshTopology& topology, int32_t a, int32_t b) {
+  const auto begin = topology.ring_neighbors.begin() + topology.ring_offsets[a];
+  const auto end = topology.ring_neighbors.begin() + topology.ring_offsets[a + 1];
+  const auto it = std::lower_bound(begin, end, b);
+  if (it == end || *it != b) return -1;
+  return topology.ring_edges[static_cast<size_t>(it - topology.ring_neighbors.begin())];
+}
+
+int64_t LowerMedian(std::vector<int64_t>& values) {
+  const size_t middle = (values.size() - 1) / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(middle),
+                   values.end());
+  return values[middle];
+}
+
+StatusOr<Triangles> DecodeIndexed(std::span<const uint8_t> payload, uint32_t vertex_count,
+                                  uint32_t triangle_count) {
+  // Every triangle costs at least one coded bit, so a short payload cannot claim huge counts.
+  if (triangle_count > 64 * payload.size() + 64) {
+    return CorruptStreamError("triangle count " + ToString(triangle_count) +
+                              " cannot fit in a connectivity payload of " +
+                              ToString(static_cast<int64_t>(payload.size())) + " bytes");
+  }
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload.subspan(1)));
+  IntegerContexts first, second, third;
+  Triangles triangles(triangle_count, 3);
+  int64_t previous = 0;
+  const int64_t v_count = vertex_count;
+  for (uint32_t t = 0; t < triangle_count; ++t) {
+    int64_t d0, d1, d2;
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(first, &d0));
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(second, &d1));
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(third, &d2));
+    if (decoder.overrun()) break;  // reported below; stop before trusting garbage
+    const int64_t a = previous + d0, b = a + d1, c = a + d2;
+    if (a < 0 || a >= v_count || b < 0 || b >= v_count || c < 0 || c >= v_count) {
+      return CorruptStreamError("triangle " + ToString(t) + " has a vertex index outside [0, " +
+                                ToString(v_count) + ")");
+    }
+    triangles.row(t) << static_cast<int32_t>(a), static_cast<int32_t>(b), static_cast<int32_t>(c);
+    previous = a;
+  }
+  DMC_RETURN_IF_ERROR(decoder.CheckNotOverrun("connectivity"));
+  return triangles;
+}
+
+// Reads "varint n, n bytes" and returns the n bytes.
+StatusOr<std::span<const uint8_t>> ReadDracoBuffer(ByteReader& reader) {
+  uint64_t size;
+  DMC_RETURN_IF_ERROR(reader.GetVarU(&size, "Draco buffer size"));
+  if (size > reader.remaining()) {
+    return TruncatedStreamError("Draco buffer of " + ToString(static_cast<int64_t>(size)) +
+                                " bytes declared, " +
+                                ToString(static_cast<int64_t>(reader.remaining())) + " present");
+  }
+  std::span<const uint8_t> buffer;
+  DMC_RETURN_IF_ERROR(reader.GetBytes(size, &buffer, "Draco buffer"));
+  return buffer;
+}
+
+StatusOr<Triangles> DecodeDracoReordered(std::span<const uint8_t> payload, uint32_t vertex_count,
+                                         uint32_t triangle_count) {
+  ByteReader reader(payload.subspan(1));
+  DMC_ASSIGN_OR_RETURN(const std::span<const uint8_t> draco_buffer, ReadDracoBuffer(reader));
+  if (!reader.at_end()) return CorruptStreamError("connectivity payload has trailing bytes");
+  return DecodeDracoTriangles(draco_buffer, vertex_count, triangle_count);
+}
+
+StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
+                                               uint32_t vertex_count, uint32_t triangle_count) {
+  const std::span<const uint8_t> body = payload.subspan(1);
+  ByteReader reader(body);
+  DMC_ASSIGN_OR_RETURN(const std::span<const uint8_t> draco_buffer, ReadDracoBuffer(reader));
+  uint8_t predictor_value;
+  DMC_RETURN_IF_ERROR(reader.GetU8(&predictor_value, "vertex label predictor"));
+  if (predictor_value >= kLabelPredictorCount) {
+    return CorruptStreamError("vertex label predictor " + ToString(predictor_value) +
+                              " is unknown");
+  }
+  const auto predictor = static_cast<LabelPredictor>(predictor_value);
+  DMC_ASSIGN_OR_RETURN(Triangles draco_triangles,
+                       DecodeDracoTriangles(draco_buffer, vertex_count, triangle_count));
+
+  const int32_t v_count = static_cast<int32_t>(vertex_count);
+  const MeshTopology topology = BuildTopology(draco_triangles, v_count);
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(body.subspan(reader.position())));
+  std::array<IntegerContexts, kPredictionKindCount> contexts;
+  UnusedLabels unused(v_count);
+  std::vector<int32_t> labels(v_count, -1);
+  int32_t previous_label = -1;
+  for (const int32_t v : LabelCodingOrder(topology)) {
+    const LabelPrediction prediction = PredictLabel(topology, labels, v, predictor, previous_label);
+    int64_t rank_difference;
+    DMC_RETURN_IF_ERROR(
+        decoder.DecodeSigned(contexts[static_cast<int>(prediction.kind)], &rank_difference));
+    if (decoder.overrun()) break;  // reported below as truncation, not as a bad rank
+    const int64_t rank = unused.Rank(prediction.label) + rank_difference;
+    if (rank < 0 || rank >= unused.remaining()) {
+      return CorruptStreamError("vertex label rank " + ToString(rank) + " of Draco point " +
+                                ToString(v) + " is outside [0, " + ToString(unused.remaining()) +
+                                ")");
+    }
+    const int32_t label = unused.Select(static_cast<int32_t>(rank));
+    unused.Remove(label);
+    labels[v] = label;
+    previous_label = label;
+  }
+  DMC_RETURN_IF_ERROR(decoder.CheckNotOverrun("connectivity vertex labels"));
+
+  // Labels are distinct by construction (each is selected among unused ones), so relabelling
+  // keeps every triangle valid.
+  Triangles triangles(draco_triangles.rows(), 3);
+  for (Eigen::Index t = 0; t < draco_triangles.rows(); ++t) {
+    for (int k = 0; k < 3; ++k) triangles(t, k) = labels[draco_triangles(t, k)];
+  }
+  return triangles;
+}
+
+}  // namespace
+
+std::vector<int32_t> LabelCodingOrder(const MeshTopology& topology) {
+  const int32_t v_count = topology.vertex_count;
+  std::vector<int32_t> coded_neighbors(v_count, 0);
+  std::vector<uint8_t> done(v_count, 0);
+  std::vector<int32_t> order;
+  order.reserve(v_count);
+  // Max-heap on (coded neighbours, -vertex). Counts only grow, so an entry whose count is not the
+  // vertex's current count (or whose vertex is done) is stale and skipped.
+  std::priority_queue<std::pair<int32_t, int32_t>> queue;
+  int32_t next_seed = 0;
+  while (static_cast<int32_t>(order.size()) < v_count) {
+    while (!queue.empty() && (done[-queue.top().second] ||
+                              queue.top().first != coded_neighbors[-queue.top().second])) {
+      queue.pop();
+    }
+    int32_t v;
+    if (queue.empty()) {
+      while (done[next_seed]) ++next_seed;
+      v = next_seed;
+    } else {
+      v = -queue.top().second;
+      queue.pop();
+    }
+    done[v] = 1;
+    order.push_back(v);
+    for (int32_t k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+      const int32_t n = topology.ring_neighbors[k];
+      if (!done[n]) queue.emplace(++coded_neighbors[n], -n);
+    }
+  }
+  return order;
+}
+
+LabelPrediction PredictLabel(const MeshTopology& topology, std::span<const int32_t> labels,
+                             int32_t v, LabelPredictor predictor, int32_t previous_label) {
+  const int64_t max_label = topology.vertex_count - 1;
+  auto clamped = [max_label](int64_t label) { return std::clamp<int64_t>(label, 0, max_label); };
+  std::vector<int64_t> candidates;
+  if (predictor == LabelPredictor::kParallelogram) {
+    for (int32_t k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+      const int32_t a = topology.ring_neighbors[k];
+      if (labels[a] < 0) continue;
+      for (const int32_t b : topology.edge_opposite[topology.ring_edges[k]]) {
+        // Triangle (v, a, b) is met from a and from b: count it once, from its smaller vertex.
+        if (b < 0 || b <= a || labels[b] < 0) continue;
+        const int32_t ab = FindEdge(topology, a, b);
+        if (ab < 0) continue;
+        for (const int32_t c : topology.edge_opposite[ab]) {
+          if (c < 0 || c == v || labels[c] < 0) continue;
+          candidates.push_back(int64_t{labels[a]} + labels[b] - labels[c]);
+        }
+      }
+    }
+    if (!candidates.empty()) {
+      return {clamped(LowerMedian(candidates)), PredictionKind::kParallelogram};
+    }
+  }
+  for (int32_t k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+    const int32_t label = labels[topology.ring_neighbors[k]];
+    if (label >= 0) candidates.push_back(label);
+  }
+  if (!candidates.empty()) {
+    return {clamped(LowerMedian(candidates)), PredictionKind::kNeighborMedian};
+  }
+  return {clamped(int64_t{previous_label} + 1), PredictionKind::kNoNeighbor};
+}
+
+UnusedLabels::UnusedLabels(int32_t label_count)
+    : tree_(static_cast<size_t>(label_count) + 1, 0), remaining_(label_count) {
+  // Linear-time construction of the tree of all-one flags.
+  for (int32_t i = 1; i <= label_count; ++i) {
+    tree_[i] += 1;
+    const int32_t parent = i + (i & -i);
+    if (parent <= label_count) tree_[parent] += tree_[i];
+  }
+  top_bit_ = 1;
+  while (top_bit_ * 2 <= label_count) top_bit_ *= 2;
+}
+
+int32_t UnusedLabels::Rank(int64_t label) const {
+  int32_t sum = 0;
+  for (int64_t i = label; i > 0; i -= i & -i) sum += tree_[static_cast<size_t>(i)];
+  return sum;
+}
+
+int32_t UnusedLabels::Select(int32_t rank) const {
+  // Fenwick descent to the largest 1-based position p whose prefix count is <= rank: position
+  // p + 1 holds the wanted label, which is 0-based label p.
+  int32_t position = 0;
+  const int32_t n = static_cast<int32_t>(tree_.size()) - 1;
+  for (int32_t step = top_bit_; step > 0; step >>= 1) {
+    const int32_t next = position + step;
+    if (next <= n && tree_[next] <= rank) {
+      position = next;
+      rank -= tree_[next];
+    }
+  }
+  return position;
+}
+
+void UnusedLabels::Remove(int32_t label) {
+  const int32_t n = static_cast<int32_t>(tree_.size()) - 1;
+  for (int32_t i = label + 1; i <= n; i += i & -i) --tree_[i];
+  --remaining_;
+}
+
+StatusOr<Triangles> DecodeDracoTriangles(std::span<const uint8_t> draco_buffer,
+                                         uint32_t vertex_count, uint32_t triangle_count,
+                                         std::vector<int32_t>* point_values) {
+  // Check what Draco would otherwise trust: the header and the counts it allocates from.
+  ByteReader reader(draco_buffer);
+  for (size_t i = 0; i < kDracoHeader.size(); ++i) {
+    uint8_t byte;
+    DMC_RETURN_IF_ERROR(reader.GetU8(&byte, "Draco header"));
+    if (byte != kDracoHeader[i]) {
+      return CorruptStreamError("Draco header byte " + ToString(static_cast<int64_t>(i)) + " is " +
+                                ToString(byte) + ", expected " + ToString(kDracoHeader[i]) +
+                                " (edgebreaker mesh, bitstream 2.2, no metadata)");
+    }
+  }
+  uint8_t traversal;
+  DMC_RETURN_IF_ERROR(reader.GetU8(&traversal, "Draco edgebreaker traversal"));
+  if (traversal != kDracoStandardTraversal && traversal != kDracoValenceTraversal) {
+    return CorruptStreamError("Draco edgebreaker traversal " + ToString(traversal) +
+                              " is not standard (0) or valence (2)");
+  }
+  uint64_t count;
+  DMC_RETURN_IF_ERROR(reader.GetVarU(&count, "Draco vertex count"));
+  if (count != vertex_count) {
+    return CorruptStreamError("Draco buffer has " + ToString(static_cast<int64_t>(count)) +
+                              " vertices, the sequence header " + ToString(vertex_count));
+  }
+  DMC_RETURN_IF_ERROR(reader.GetVarU(&count, "Draco face count"));
+  if (count != triangle_count) {
+    return CorruptStreamError("Draco buffer has " + ToString(static_cast<int64_t>(count)) +
+                              " triangles, the sequence header " + ToString(triangle_count));
+  }
+
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(draco_buffer.data()), draco_buffer.size());
+  draco::Decoder decoder;
+  draco::StatusOr<std::unique_ptr<draco::Mesh>> decoded = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!decoded.ok()) {
+    return CorruptStreamError("Draco cannot decode the connectivity: " +
+                              decoded.status().error_msg_string());
+  }
+  const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+  if (mesh == nullptr) return CorruptStreamError("Draco returned no mesh");
+  if (mesh->num_points() != vertex_count || mesh->num_faces() != triangle_count) {
+    return CorruptStreamError("Draco decoded " + ToString(mesh->num_points()) + " vertices and " +
+                              ToString(mesh->num_faces()) + " triangles, the sequence header has " +
+                              ToString(vertex_count) + " and " + ToString(triangle_count));
+  }
+  Triangles triangles(triangle_count, 3);
+  for (uint32_t f = 0; f < triangle_count; ++f) {
+    const draco::Mesh::Face& face = mesh->face(draco::FaceIndex(f));
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t point = face[k].value();
+      if (point >= vertex_count) {
+        return CorruptStreamError("Draco triangle " + ToString(f) + " has vertex " +
+                                  ToString(point) + " outside [0, " + ToString(vertex_count) + ")");
+      }
+      triangles(f, k) = static_cast<int32_t>(point);
+    }
+  }
+  if (point_values != nullptr) {
+    const draco::PointAttribute* position =
+        mesh->GetNamedAttribute(draco::GeometryAttribute::POSITION);
+    if (position == nullptr) return CorruptStreamError("Draco mesh has no position attribute");
+    point_values->resize(vertex_count);
+    for (uint32_t p = 0; p < vertex_count; ++p) {
+      (*point_values)[p] =
+          static_cast<int32_t>(position->mapped_index(draco::PointIndex(p)).value());
+    }
+  }
+  return triangles;
+}
+
+}  // namespace connectivity
+
+StatusOr<Triangles> DecodeConnectivity(std::span<const uint8_t> payload, uint32_t vertex_count,
+                                       uint32_t triangle_count) {
+  if (payload.empty()) return TruncatedStreamError("connectivity payload is empty");
+  switch (payload[0]) {
+    case static_cast<uint8_t>(ConnectivityCoding::kIndexed):
+      return connectivity::DecodeIndexed(payload, vertex_count, triangle_count);
+    case static_cast<uint8_t>(ConnectivityCoding::kDracoWithVertexOrder):
+      return connectivity::DecodeDracoWithVertexOrder(payload, vertex_count, triangle_count);
+    case static_cast<uint8_t>(ConnectivityCoding::kDracoReordered):
+      return connectivity::DecodeDracoReordered(payload, vertex_count, triangle_count);
+    default:
+      return UnsupportedError("connectivity method " + std::to_string(payload[0]) + " is unknown");
+  }
+}
+
+}  // namespace dmc

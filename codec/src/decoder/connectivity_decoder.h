@@ -1,0 +1,114 @@
+// Decoding of the connectivity chunk, and the deterministic pieces of the connectivity syntax that
+// the encoder (encoder/connectivity_encoder.h) must compute exactly as the decoder does.
+//
+// Payload syntax (normative; every method starts with its wire byte):
+//   method 0, kIndexed: the range-coded triangle list in input order (first index as a delta from
+//     the previous triangle's first index, the two others as deltas from the first, one
+//     IntegerContexts set per corner).
+//   method 1, kDracoWithVertexOrder: varint n, then n bytes of a Draco mesh buffer (see below),
+//     then u8 label predictor (LabelPredictor), then the range-coded vertex labels: the decoded
+//     Draco point p becomes output vertex label[p], which restores the input vertex order.
+//   method 2, kDracoReordered: varint n, then n bytes of a Draco mesh buffer; output vertex p is
+//     Draco's point p (the stream header says the order is the codec's own).
+// The Draco buffer is Draco bitstream 2.2, a triangular mesh coded with edgebreaker (standard or
+// valence traversal), no metadata, one 1-component uint8 POSITION attribute whose values are all
+// zero (Draco needs a position attribute to build its corner table; its values carry nothing).
+// The decoder checks the Draco header and its vertex and face counts against the sequence header
+// before letting Draco allocate anything.
+//
+// Vertex labels (method 1) are coded in LabelCodingOrder over the topology of the decoded Draco
+// mesh. For each vertex v a prediction y is formed from the labels already decoded (PredictLabel);
+// what is sent is the signed difference of ranks among the labels not yet used,
+//   r = #{unused labels < label[v]} - #{unused labels < y},
+// with one adaptive IntegerContexts set per prediction kind. Coding ranks rather than label
+// differences never spends code space on labels that are already taken.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+#include "dmc/topology.h"
+
+namespace dmc {
+
+// Wire values of the connectivity methods (mirrors format::ConnectivityMethod).
+enum class ConnectivityCoding : uint8_t {
+  kIndexed = 0,
+  kDracoWithVertexOrder = 1,
+  kDracoReordered = 2,
+};
+
+// Decodes a connectivity payload into the triangle list of the output vertex order. Safe on
+// untrusted input: sizes, counts and indices are checked before use; any inconsistency is
+// kCorruptStream (kTruncatedStream when the payload ends early) naming the element at fault, and
+// Draco failures are reported as kCorruptStream with Draco's message. The result always has
+// exactly `triangle_count` triangles with indices in [0, vertex_count).
+StatusOr<Triangles> DecodeConnectivity(std::span<const uint8_t> payload, uint32_t vertex_count,
+                                       uint32_t triangle_count);
+
+namespace connectivity {
+
+// Label predictors a method-1 payload may select (wire values).
+enum class LabelPredictor : uint8_t {
+  kNeighborMedian = 0,  // lower median of the decoded neighbours' labels
+  kParallelogram = 1,   // lower median of label[a] + label[b] - label[c] over triangles (v, a, b)
+                        // whose neighbour (a, b, c) across edge ab is fully decoded; falls back
+                        // to kNeighborMedian when there is none
+};
+inline constexpr int kLabelPredictorCount = 2;
+
+// Kinds of prediction; each has its own adaptive contexts.
+enum class PredictionKind : uint8_t {
+  kNoNeighbor = 0,  // no decoded neighbour: previous decoded label + 1 (0 for the first vertex)
+  kNeighborMedian = 1,
+  kParallelogram = 2,
+};
+inline constexpr int kPredictionKindCount = 3;
+
+// The order in which method 1 codes labels: repeatedly the vertex with the most already coded
+// neighbours (ties: lowest index); when no uncoded vertex has a coded neighbour, the lowest-index
+// uncoded vertex. Many coded neighbours make predictions reliable.
+std::vector<int32_t> LabelCodingOrder(const MeshTopology& topology);
+
+struct LabelPrediction {
+  int64_t label = 0;  // clamped to [0, V)
+  PredictionKind kind = PredictionKind::kNoNeighbor;
+};
+
+// Predicts the label of vertex v. `labels[u]` is u's label if u is already decoded, else -1;
+// `previous_label` is the last decoded label (-1 before the first).
+LabelPrediction PredictLabel(const MeshTopology& topology, std::span<const int32_t> labels,
+                             int32_t v, LabelPredictor predictor, int32_t previous_label);
+
+// The set of labels 0..n-1 not yet used, with rank and selection in O(log n) (a Fenwick tree).
+class UnusedLabels {
+ public:
+  explicit UnusedLabels(int32_t label_count);
+
+  int32_t remaining() const { return remaining_; }
+  // Number of unused labels smaller than `label` (label in [0, n]).
+  int32_t Rank(int64_t label) const;
+  // The unused label with `rank` unused labels below it; rank must be in [0, remaining()).
+  int32_t Select(int32_t rank) const;
+  // Marks an unused label as used.
+  void Remove(int32_t label);
+
+ private:
+  std::vector<int32_t> tree_;  // 1-based Fenwick tree of 0/1 flags
+  int32_t remaining_ = 0;
+  int32_t top_bit_ = 0;  // largest power of two <= n, for Select's descent
+};
+
+// Decodes the Draco buffer of a method-1/2 payload into its faces over Draco's points, after
+// checking the Draco header and its counts against the expected ones. When `point_values` is not
+// null it receives, per decoded point, the index of its POSITION attribute value: the encoder
+// maps that back to its input vertex.
+StatusOr<Triangles> DecodeDracoTriangles(std::span<const uint8_t> draco_buffer,
+                                         uint32_t vertex_count, uint32_t triangle_count,
+                                         std::vector<int32_t>* point_values = nullptr);
+
+}  // namespace connectivity
+}  // namespace dmc
