@@ -5,7 +5,7 @@
 
 #include <algorithm>
 #include <array>
-#include <queue>
+#include <functional>
 #include <string>
 #include <utility>
 
@@ -25,15 +25,6 @@ constexpr uint8_t kDracoStandardTraversal = 0;
 constexpr uint8_t kDracoValenceTraversal = 2;
 
 std::string ToString(int64_t value) { return std::to_string(value); }
-
-// Index of edge (a, b) in the topology, or -1. One-rings are sorted, so a binary search suffices.
-int32_t FindEdge(const MeshTopology& topology, int32_t a, int32_t b) {
-  const auto begin = topology.ring_neighbors.begin() + topology.ring_offsets[a];
-  const auto end = topology.ring_neighbors.begin() + topology.ring_offsets[a + 1];
-  const auto it = std::lower_bound(begin, end, b);
-  if (it == end || *it != b) return -1;
-  return topology.ring_edges[static_cast<size_t>(it - topology.ring_neighbors.begin())];
-}
 
 int64_t LowerMedian(std::vector<int64_t>& values) {
   const size_t middle = (values.size() - 1) / 2;
@@ -112,15 +103,17 @@ StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
                        DecodeDracoTriangles(draco_buffer, vertex_count, triangle_count));
 
   const int32_t v_count = static_cast<int32_t>(vertex_count);
-  const MeshTopology topology = BuildTopology(draco_triangles, v_count);
+  const TriangleAdjacency adjacency(draco_triangles, v_count);
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(body.subspan(reader.position())));
   std::array<IntegerContexts, kPredictionKindCount> contexts;
   UnusedLabels unused(v_count);
   std::vector<int32_t> labels(v_count, -1);
   int32_t previous_label = -1;
-  for (const int32_t v : LabelCodingOrder(topology)) {
-    const LabelPrediction prediction = PredictLabel(topology, labels, v, predictor, previous_label);
+  std::vector<int64_t> scratch;
+  for (const int32_t v : LabelCodingOrder(adjacency)) {
+    const LabelPrediction prediction =
+        PredictLabel(adjacency, labels, v, predictor, previous_label, scratch);
     int64_t rank_difference;
     DMC_RETURN_IF_ERROR(
         decoder.DecodeSigned(contexts[static_cast<int>(prediction.kind)], &rank_difference));
@@ -149,69 +142,130 @@ StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
 
 }  // namespace
 
-std::vector<int32_t> LabelCodingOrder(const MeshTopology& topology) {
-  const int32_t v_count = topology.vertex_count;
+TriangleAdjacency::TriangleAdjacency(const Triangles& triangles, int32_t vertex_count)
+    : triangles_(triangles), offsets_(static_cast<size_t>(vertex_count) + 1, 0) {
+  const auto t_count = static_cast<int32_t>(triangles.rows());
+  for (int32_t t = 0; t < t_count; ++t) {
+    for (int k = 0; k < 3; ++k) ++offsets_[triangles(t, k) + 1];
+  }
+  for (int32_t v = 0; v < vertex_count; ++v) offsets_[v + 1] += offsets_[v];
+  faces_.resize(static_cast<size_t>(offsets_[vertex_count]));
+  std::vector<int32_t> fill(offsets_.begin(), offsets_.end() - 1);
+  for (int32_t t = 0; t < t_count; ++t) {  // ascending t, so each list comes out sorted
+    for (int k = 0; k < 3; ++k) faces_[fill[triangles(t, k)]++] = t;
+  }
+}
+
+void TriangleAdjacency::Neighbors(int32_t v, std::vector<int32_t>& out) const {
+  out.clear();
+  for (const int32_t t : TrianglesOf(v)) {
+    for (int k = 0; k < 3; ++k) {
+      if (triangles_(t, k) != v) out.push_back(triangles_(t, k));
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+std::vector<int32_t> LabelCodingOrder(const TriangleAdjacency& adjacency) {
+  const int32_t v_count = adjacency.vertex_count();
   std::vector<int32_t> coded_neighbors(v_count, 0);
   std::vector<uint8_t> done(v_count, 0);
   std::vector<int32_t> order;
   order.reserve(v_count);
-  // Max-heap on (coded neighbours, -vertex). Counts only grow, so an entry whose count is not the
-  // vertex's current count (or whose vertex is done) is stale and skipped.
-  std::priority_queue<std::pair<int32_t, int32_t>> queue;
+  // heaps[c]: a min-heap of the vertices that reached c coded neighbours; an entry is stale once
+  // its vertex is done or has moved to a higher count. `top` bounds the highest non-empty heap.
+  // (One heap per count is several times faster than a single heap on (count, -vertex).)
+  std::vector<std::vector<int32_t>> heaps(1);
+  size_t top = 0;
   int32_t next_seed = 0;
+  std::vector<int32_t> neighbors;
   while (static_cast<int32_t>(order.size()) < v_count) {
-    while (!queue.empty() && (done[-queue.top().second] ||
-                              queue.top().first != coded_neighbors[-queue.top().second])) {
-      queue.pop();
+    int32_t v = -1;
+    while (top > 0 && v < 0) {
+      std::vector<int32_t>& heap = heaps[top];
+      while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+        const int32_t candidate = heap.back();
+        heap.pop_back();
+        if (!done[candidate] && static_cast<size_t>(coded_neighbors[candidate]) == top) {
+          v = candidate;
+          break;
+        }
+      }
+      if (v < 0) --top;
     }
-    int32_t v;
-    if (queue.empty()) {
+    if (v < 0) {
       while (done[next_seed]) ++next_seed;
       v = next_seed;
-    } else {
-      v = -queue.top().second;
-      queue.pop();
     }
     done[v] = 1;
     order.push_back(v);
-    for (int32_t k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
-      const int32_t n = topology.ring_neighbors[k];
-      if (!done[n]) queue.emplace(++coded_neighbors[n], -n);
+    adjacency.Neighbors(v, neighbors);
+    for (const int32_t n : neighbors) {
+      if (done[n]) continue;
+      const auto count = static_cast<size_t>(++coded_neighbors[n]);
+      if (count >= heaps.size()) heaps.resize(count + 1);
+      heaps[count].push_back(n);
+      std::push_heap(heaps[count].begin(), heaps[count].end(), std::greater<>());
+      top = std::max(top, count);
     }
   }
   return order;
 }
 
-LabelPrediction PredictLabel(const MeshTopology& topology, std::span<const int32_t> labels,
-                             int32_t v, LabelPredictor predictor, int32_t previous_label) {
-  const int64_t max_label = topology.vertex_count - 1;
+LabelPrediction PredictLabel(const TriangleAdjacency& adjacency, std::span<const int32_t> labels,
+                             int32_t v, LabelPredictor predictor, int32_t previous_label,
+                             std::vector<int64_t>& scratch) {
+  const int64_t max_label = adjacency.vertex_count() - 1;
   auto clamped = [max_label](int64_t label) { return std::clamp<int64_t>(label, 0, max_label); };
-  std::vector<int64_t> candidates;
+  const Triangles& triangles = adjacency.triangles();
+  scratch.clear();
   if (predictor == LabelPredictor::kParallelogram) {
-    for (int32_t k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
-      const int32_t a = topology.ring_neighbors[k];
-      if (labels[a] < 0) continue;
-      for (const int32_t b : topology.edge_opposite[topology.ring_edges[k]]) {
-        // Triangle (v, a, b) is met from a and from b: count it once, from its smaller vertex.
-        if (b < 0 || b <= a || labels[b] < 0) continue;
-        const int32_t ab = FindEdge(topology, a, b);
-        if (ab < 0) continue;
-        for (const int32_t c : topology.edge_opposite[ab]) {
-          if (c < 0 || c == v || labels[c] < 0) continue;
-          candidates.push_back(int64_t{labels[a]} + labels[b] - labels[c]);
+    for (const int32_t f : adjacency.TrianglesOf(v)) {
+      // The corners after v in f: (v, a, b) in f's orientation.
+      const int corner = triangles(f, 0) == v ? 0 : (triangles(f, 1) == v ? 1 : 2);
+      const int32_t a = triangles(f, (corner + 1) % 3), b = triangles(f, (corner + 2) % 3);
+      if (labels[a] < 0 || labels[b] < 0) continue;
+      // The triangles across edge ab are among those of a and among those of b: scan the shorter
+      // list, and skip the edge when even that is long, so a crafted stream with huge fans cannot
+      // make decoding quadratic.
+      const std::span<const int32_t> around_a = adjacency.TrianglesOf(a);
+      const std::span<const int32_t> around_b = adjacency.TrianglesOf(b);
+      const std::span<const int32_t> around =
+          around_a.size() <= around_b.size() ? around_a : around_b;
+      if (around.size() > kMaxParallelogramScan) continue;
+      for (const int32_t g : around) {
+        if (g == f) continue;
+        int32_t c = -1;
+        int shared = 0;
+        for (int k = 0; k < 3; ++k) {
+          const int32_t u = triangles(g, k);
+          if (u == a || u == b) {
+            ++shared;
+          } else {
+            c = u;
+          }
         }
+        if (shared != 2 || c < 0 || c == v || labels[c] < 0) continue;
+        scratch.push_back(int64_t{labels[a]} + labels[b] - labels[c]);
       }
     }
-    if (!candidates.empty()) {
-      return {clamped(LowerMedian(candidates)), PredictionKind::kParallelogram};
+    if (!scratch.empty()) return {clamped(LowerMedian(scratch)), PredictionKind::kParallelogram};
+  }
+  // Distinct decoded neighbours: each appears once per incident triangle, so deduplicate by
+  // vertex before taking the median of their labels.
+  for (const int32_t f : adjacency.TrianglesOf(v)) {
+    for (int k = 0; k < 3; ++k) {
+      const int32_t u = triangles(f, k);
+      if (u != v && labels[u] >= 0) scratch.push_back(u);
     }
   }
-  for (int32_t k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
-    const int32_t label = labels[topology.ring_neighbors[k]];
-    if (label >= 0) candidates.push_back(label);
-  }
-  if (!candidates.empty()) {
-    return {clamped(LowerMedian(candidates)), PredictionKind::kNeighborMedian};
+  std::sort(scratch.begin(), scratch.end());
+  scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
+  if (!scratch.empty()) {
+    for (int64_t& u : scratch) u = labels[static_cast<size_t>(u)];
+    return {clamped(LowerMedian(scratch)), PredictionKind::kNeighborMedian};
   }
   return {clamped(int64_t{previous_label} + 1), PredictionKind::kNoNeighbor};
 }

@@ -16,9 +16,9 @@
 // The decoder checks the Draco header and its vertex and face counts against the sequence header
 // before letting Draco allocate anything.
 //
-// Vertex labels (method 1) are coded in LabelCodingOrder over the topology of the decoded Draco
-// mesh. For each vertex v a prediction y is formed from the labels already decoded (PredictLabel);
-// what is sent is the signed difference of ranks among the labels not yet used,
+// Vertex labels (method 1) are coded in LabelCodingOrder over the decoded Draco mesh. For each
+// vertex v a prediction y is formed from the labels already decoded (PredictLabel); what is sent is
+// the signed difference of ranks among the labels not yet used,
 //   r = #{unused labels < label[v]} - #{unused labels < y},
 // with one adaptive IntegerContexts set per prediction kind. Coding ranks rather than label
 // differences never spends code space on labels that are already taken.
@@ -30,7 +30,6 @@
 
 #include "dmc/sequence.h"
 #include "dmc/status.h"
-#include "dmc/topology.h"
 
 namespace dmc {
 
@@ -53,12 +52,15 @@ namespace connectivity {
 
 // Label predictors a method-1 payload may select (wire values).
 enum class LabelPredictor : uint8_t {
-  kNeighborMedian = 0,  // lower median of the decoded neighbours' labels
-  kParallelogram = 1,   // lower median of label[a] + label[b] - label[c] over triangles (v, a, b)
-                        // whose neighbour (a, b, c) across edge ab is fully decoded; falls back
-                        // to kNeighborMedian when there is none
+  kNeighborMedian = 0,  // lower median of the distinct decoded neighbours' labels
+  kParallelogram = 1,   // lower median of label[a] + label[b] - label[c] over the triangles
+                        // (v, a, b) with a and b decoded and every other triangle (a, b, c)
+                        // with c decoded; kNeighborMedian when there is none. Edges ab where
+                        // both a and b lie in more than kMaxParallelogramScan triangles are
+                        // skipped (bounds the work on crafted streams).
 };
 inline constexpr int kLabelPredictorCount = 2;
+inline constexpr size_t kMaxParallelogramScan = 64;
 
 // Kinds of prediction; each has its own adaptive contexts.
 enum class PredictionKind : uint8_t {
@@ -68,10 +70,34 @@ enum class PredictionKind : uint8_t {
 };
 inline constexpr int kPredictionKindCount = 3;
 
-// The order in which method 1 codes labels: repeatedly the vertex with the most already coded
-// neighbours (ties: lowest index); when no uncoded vertex has a coded neighbour, the lowest-index
-// uncoded vertex. Many coded neighbours make predictions reliable.
-std::vector<int32_t> LabelCodingOrder(const MeshTopology& topology);
+// Vertex-to-triangle incidence of a triangle list in CSR form: all label coding needs to walk
+// the decoded mesh (much cheaper to build than a MeshTopology). Indices must be in range; the
+// adjacency refers to `triangles`, which must outlive it.
+class TriangleAdjacency {
+ public:
+  TriangleAdjacency(const Triangles& triangles, int32_t vertex_count);
+
+  int32_t vertex_count() const { return static_cast<int32_t>(offsets_.size()) - 1; }
+  const Triangles& triangles() const { return triangles_; }
+  // The triangles incident to v, ascending.
+  std::span<const int32_t> TrianglesOf(int32_t v) const {
+    return {faces_.data() + offsets_[v], faces_.data() + offsets_[v + 1]};
+  }
+  // The distinct neighbours of v, ascending, written to `out` (cleared first).
+  void Neighbors(int32_t v, std::vector<int32_t>& out) const;
+
+ private:
+  const Triangles& triangles_;
+  std::vector<int32_t> offsets_;  // size V + 1
+  std::vector<int32_t> faces_;    // size 3T
+};
+
+// The order in which method 1 codes labels: repeatedly the uncoded vertex with the most coded
+// neighbours, ties to the lowest index (Draco's point order follows its traversal, so this
+// stays in the oldest part of the front); when no uncoded vertex has a coded neighbour, the
+// lowest-index uncoded vertex. Many coded neighbours make predictions reliable. (Measured on
+// samba: 2.5% fewer label bits than first-come or last-come tie breaking.)
+std::vector<int32_t> LabelCodingOrder(const TriangleAdjacency& adjacency);
 
 struct LabelPrediction {
   int64_t label = 0;  // clamped to [0, V)
@@ -79,9 +105,10 @@ struct LabelPrediction {
 };
 
 // Predicts the label of vertex v. `labels[u]` is u's label if u is already decoded, else -1;
-// `previous_label` is the last decoded label (-1 before the first).
-LabelPrediction PredictLabel(const MeshTopology& topology, std::span<const int32_t> labels,
-                             int32_t v, LabelPredictor predictor, int32_t previous_label);
+// `previous_label` is the last decoded label (-1 before the first). `scratch` is reused storage.
+LabelPrediction PredictLabel(const TriangleAdjacency& adjacency, std::span<const int32_t> labels,
+                             int32_t v, LabelPredictor predictor, int32_t previous_label,
+                             std::vector<int64_t>& scratch);
 
 // The set of labels 0..n-1 not yet used, with rank and selection in O(log n) (a Fenwick tree).
 class UnusedLabels {

@@ -183,16 +183,18 @@ StatusOr<DracoCoding> EncodeDraco(const Triangles& triangles, int vertex_count) 
 }
 
 // Range-codes the labels of the Draco points (see connectivity_decoder.h).
-std::vector<uint8_t> EncodeLabels(const MeshTopology& topology, const std::vector<int32_t>& order,
+std::vector<uint8_t> EncodeLabels(const connectivity::TriangleAdjacency& adjacency,
+                                  const std::vector<int32_t>& order,
                                   std::span<const int32_t> input_vertex, LabelPredictor predictor) {
   RangeEncoder encoder;
   std::array<IntegerContexts, connectivity::kPredictionKindCount> contexts;
-  connectivity::UnusedLabels unused(topology.vertex_count);
-  std::vector<int32_t> labels(topology.vertex_count, -1);
+  connectivity::UnusedLabels unused(adjacency.vertex_count());
+  std::vector<int32_t> labels(adjacency.vertex_count(), -1);
   int32_t previous_label = -1;
+  std::vector<int64_t> scratch;
   for (const int32_t v : order) {
     const connectivity::LabelPrediction prediction =
-        connectivity::PredictLabel(topology, labels, v, predictor, previous_label);
+        connectivity::PredictLabel(adjacency, labels, v, predictor, previous_label, scratch);
     const int32_t label = input_vertex[v];
     encoder.EncodeSigned(contexts[static_cast<int>(prediction.kind)],
                          int64_t{unused.Rank(label)} - unused.Rank(prediction.label));
@@ -209,15 +211,15 @@ void AppendDracoBuffer(ByteWriter& writer, const std::vector<uint8_t>& buffer) {
 }
 
 ConnectivityCode EncodeDracoWithVertexOrder(const DracoCoding& draco) {
-  const MeshTopology topology =
-      BuildTopology(draco.decoded, static_cast<int>(draco.input_vertex.size()));
-  const std::vector<int32_t> order = connectivity::LabelCodingOrder(topology);
+  const connectivity::TriangleAdjacency adjacency(draco.decoded,
+                                                  static_cast<int32_t>(draco.input_vertex.size()));
+  const std::vector<int32_t> order = connectivity::LabelCodingOrder(adjacency);
   // Which predictor wins depends on how the input was labelled: try each, keep the smallest.
   std::vector<uint8_t> best_labels;
   LabelPredictor best_predictor = LabelPredictor::kNeighborMedian;
   for (int p = 0; p < connectivity::kLabelPredictorCount; ++p) {
     const auto predictor = static_cast<LabelPredictor>(p);
-    std::vector<uint8_t> coded = EncodeLabels(topology, order, draco.input_vertex, predictor);
+    std::vector<uint8_t> coded = EncodeLabels(adjacency, order, draco.input_vertex, predictor);
     if (best_labels.empty() || coded.size() < best_labels.size()) {
       best_labels = std::move(coded);
       best_predictor = predictor;

@@ -322,42 +322,57 @@ TEST(ConnectivityLabels, UnusedLabelsRankAndSelect) {
 // PlanarGrid(3): vertices 0..8 row by row; neighbours (hand-derived from its triangles):
 // 0:{1,3,4} 1:{0,2,4,5} 2:{1,5} 3:{0,4,6,7} 4:{0,1,3,5,7,8} 5:{1,2,4,8} 6:{3,7} 7:{3,4,6,8}
 // 8:{4,5,7}.
+TEST(ConnectivityLabels, AdjacencyListsTrianglesAndNeighbours) {
+  const MeshSequence grid = testing::PlanarGrid(3);
+  const connectivity::TriangleAdjacency adjacency(grid.triangles(), grid.vertex_count());
+  // Triangles: 0 (0,1,4) 1 (0,4,3) 2 (1,2,5) 3 (1,5,4) 4 (3,4,7) 5 (3,7,6) 6 (4,5,8) 7 (4,8,7).
+  const std::vector<int32_t> of_four = {0, 1, 3, 4, 6, 7};
+  EXPECT_EQ(std::vector<int32_t>(adjacency.TrianglesOf(4).begin(), adjacency.TrianglesOf(4).end()),
+            of_four);
+  std::vector<int32_t> neighbors;
+  adjacency.Neighbors(4, neighbors);
+  EXPECT_EQ(neighbors, (std::vector<int32_t>{0, 1, 3, 5, 7, 8}));
+  adjacency.Neighbors(2, neighbors);
+  EXPECT_EQ(neighbors, (std::vector<int32_t>{1, 5}));
+}
+
 TEST(ConnectivityLabels, CodingOrderPrefersVerticesWithMostCodedNeighbours) {
   const MeshSequence grid = testing::PlanarGrid(3);
-  const MeshTopology topology = BuildTopology(grid.triangles(), grid.vertex_count());
+  const connectivity::TriangleAdjacency adjacency(grid.triangles(), grid.vertex_count());
   // 0 (seed); 1 (1 coded neighbour, lowest index among 1,3,4); 4 (2: 0,1); 3 (2, before 5);
   // 5 (2); 2 (2: 1,5, before 7); 7 (2: 3,4); 8 (3: 4,5,7); 6.
   const std::vector<int32_t> expected = {0, 1, 4, 3, 5, 2, 7, 8, 6};
-  EXPECT_EQ(connectivity::LabelCodingOrder(topology), expected);
+  EXPECT_EQ(connectivity::LabelCodingOrder(adjacency), expected);
 
   // Two components: the second starts from its lowest vertex once the first is exhausted.
-  const Triangles two = FromList({{0, 1, 2}, {3, 4, 5}});
+  const Triangles two = FromList({{3, 4, 5}, {0, 1, 2}});
   const std::vector<int32_t> expected_two = {0, 1, 2, 3, 4, 5};
-  EXPECT_EQ(connectivity::LabelCodingOrder(BuildTopology(two, 6)), expected_two);
+  EXPECT_EQ(connectivity::LabelCodingOrder(connectivity::TriangleAdjacency(two, 6)), expected_two);
 }
 
 TEST(ConnectivityLabels, PredictionsFromDecodedNeighbours) {
   const MeshSequence grid = testing::PlanarGrid(3);
-  const MeshTopology topology = BuildTopology(grid.triangles(), grid.vertex_count());
+  const connectivity::TriangleAdjacency adjacency(grid.triangles(), grid.vertex_count());
   std::vector<int32_t> labels(9, -1);
+  std::vector<int64_t> scratch;
   // Nothing decoded: previous label + 1.
   connectivity::LabelPrediction p =
-      connectivity::PredictLabel(topology, labels, 3, LabelPredictor::kNeighborMedian, 5);
+      connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kNeighborMedian, 5, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kNoNeighbor);
   EXPECT_EQ(p.label, 6);
-  p = connectivity::PredictLabel(topology, labels, 3, LabelPredictor::kNeighborMedian, 8);
+  p = connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kNeighborMedian, 8, scratch);
   EXPECT_EQ(p.label, 8);  // clamped to V - 1
   // Vertices 0, 1, 4 decoded with their grid labels; predict vertex 3 (neighbours 0, 4, 6, 7).
   labels[0] = 0, labels[1] = 1, labels[4] = 4;
-  p = connectivity::PredictLabel(topology, labels, 3, LabelPredictor::kNeighborMedian, 4);
+  p = connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kNeighborMedian, 4, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kNeighborMedian);
   EXPECT_EQ(p.label, 0);  // lower median of {0, 4}
   // Triangle (0, 4, 3) faces triangle (0, 1, 4) across edge 0-4: 0 + 4 - 1 = 3, the true label.
-  p = connectivity::PredictLabel(topology, labels, 3, LabelPredictor::kParallelogram, 4);
+  p = connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kParallelogram, 4, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kParallelogram);
   EXPECT_EQ(p.label, 3);
   // Vertex 2 has only vertex 1 decoded in a triangle (1, 2, 5) with 5 unknown: no parallelogram.
-  p = connectivity::PredictLabel(topology, labels, 2, LabelPredictor::kParallelogram, 4);
+  p = connectivity::PredictLabel(adjacency, labels, 2, LabelPredictor::kParallelogram, 4, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kNeighborMedian);
   EXPECT_EQ(p.label, 1);
 }
