@@ -203,8 +203,16 @@ enum class SolverBackend : uint8_t {
 };
 std::string_view SolverBackendName(SolverBackend backend);
 
+// Fill-reducing ordering of the CHOLMOD backend (SimplicialLDLT always uses AMD).
+enum class SolverOrdering : uint8_t {
+  kAuto,   // nested dissection (METIS) from 5000 unknowns on, AMD below
+  kAmd,    // approximate minimum degree: cheapest analysis
+  kMetis,  // nested dissection: less fill on large mesh-like graphs, costlier analysis
+};
+
 struct SolverOptions {
   SolverBackend backend = SolverBackend::kAuto;
+  SolverOrdering ordering = SolverOrdering::kAuto;
   // The factorisation is rejected as numerically singular when its smallest pivot is below
   // min_pivot_ratio × its largest (an estimate of 1/cond(N)); a semidefinite N (an unanchored
   // component) lands near 1e-16 while real Laplacian normal matrices stay far above.

@@ -10,7 +10,9 @@
 //
 // Computed from the eigen-decomposition of the smaller Gram matrix: the 3F×3F XcᵀXc when 3F ≤ V
 // (the usual case, cost V·(3F)² + (3F)³), otherwise the V×V XcXcᵀ. Signs are fixed
-// deterministically (each basis column's entry of largest magnitude is positive).
+// deterministically (each basis column's entry of largest magnitude is positive). On the V×V path
+// a direction of numerically zero variance (eigenvalue ≤ 1e-12 × the largest) has no defined
+// basis vector and is returned as a zero column with zero coefficients.
 #pragma once
 
 #include <Eigen/Core>

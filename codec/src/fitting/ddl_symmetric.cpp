@@ -220,6 +220,11 @@ StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
   // determined only by min_mu is legitimately ill-conditioned: require definiteness only.
   solver_options.min_pivot_ratio = 0.0;
   solver_options.max_relative_residual = 1e-4;
+  // On the edge graph METIS's analysis costs more than its fill saves until ~150k edges
+  // (E = 30k: AMD 0.15 s vs METIS 0.38 s CPU; E = 300k: 7.8 s vs 7.1 s).
+  if (solver_options.ordering == SolverOrdering::kAuto) {
+    solver_options.ordering = e_count < 150000 ? SolverOrdering::kAmd : SolverOrdering::kMetis;
+  }
   DMC_ASSIGN_OR_RETURN(SparseSpdSolver solver, SparseSpdSolver::Factor(system, solver_options));
 
   Eigen::VectorXd multipliers = Eigen::VectorXd::Zero(constraints.row_count);

@@ -49,11 +49,16 @@ StatusOr<TrajectoryPca> ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories
     pca.eigenvalues = eigen.eigenvalues().reverse().cwiseMax(0.0);
     const Eigen::MatrixXd u = eigen.eigenvectors().rightCols(kept).rowwise().reverse();
     pca.basis = centred.transpose() * u;
+    // Xcᵀu has norm √λ. A direction of (numerically) zero variance has no defined basis vector:
+    // normalising its rounding noise would break orthonormality, so it stays a zero column,
+    // whose coefficients are then zero as well.
+    const double negligible = 1e-12 * std::max(pca.eigenvalues[0], 0.0);
     for (Eigen::Index c = 0; c < kept; ++c) {
-      const double norm = pca.basis.col(c).norm();
-      // A zero-variance direction has no defined basis vector; keep a zero column, whose
-      // coefficients are then zero as well.
-      if (norm > 0.0) pca.basis.col(c) /= norm;
+      if (pca.eigenvalues[c] > negligible && pca.eigenvalues[c] > 0.0) {
+        pca.basis.col(c).normalize();
+      } else {
+        pca.basis.col(c).setZero();
+      }
     }
   }
   for (Eigen::Index c = 0; c < kept; ++c) {

@@ -1,0 +1,143 @@
+// The factor-once/solve-many SPD solver and the anchored normal-equation solver (both backends).
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "dmc/operators.h"
+#include "test_support.h"
+#include "unit/operators/operator_test_meshes.h"
+
+namespace dmc {
+namespace {
+
+using ::testing::HasSubstr;
+
+class SolverBackends : public ::testing::TestWithParam<SolverBackend> {
+ protected:
+  SolverOptions Options() const {
+    SolverOptions options;
+    options.backend = GetParam();
+    return options;
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(Backends, SolverBackends,
+                         ::testing::Values(SolverBackend::kAuto, SolverBackend::kCholmod,
+                                           SolverBackend::kSimplicialLdlt),
+                         [](const auto& info) {
+                           std::string name(SolverBackendName(info.param));
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+TEST_P(SolverBackends, SolvesManyRightHandSidesOfANormalMatrix) {
+  const MeshSequence sphere = testing::Icosphere(3);
+  const MeshTopology topo = BuildTopology(sphere.triangles(), sphere.vertex_count());
+  const auto tutte = BuildTutte(topo);
+  ASSERT_TRUE(tutte.ok());
+  const std::vector<int32_t> anchors = {0, 17, 300};
+  const SparseMatrixD normal = BuildNormalMatrix(tutte->matrix, anchors);
+  // N = LᵀL + Σ e_a e_aᵀ, checked entry-wise on the dense product.
+  Eigen::MatrixXd dense_l(tutte->matrix);
+  Eigen::MatrixXd expected = dense_l.transpose() * dense_l;
+  for (const int a : anchors) expected(a, a) += 1.0;
+  EXPECT_LE((Eigen::MatrixXd(normal) - expected).cwiseAbs().maxCoeff(), 1e-14);
+
+  const auto solver = SparseSpdSolver::Factor(normal, Options());
+  ASSERT_TRUE(solver.ok()) << solver.status().ToString();
+  EXPECT_NE(solver->backend(), SolverBackend::kAuto);
+  EXPECT_GT(solver->pivot_ratio(), 1e-10);
+  const Eigen::MatrixXd x = Eigen::MatrixXd::NullaryExpr(
+      topo.vertex_count, 5,
+      [](Eigen::Index r, Eigen::Index c) { return std::cos(0.1 * r * (c + 1)); });
+  const auto solved = solver->Solve(normal * x);
+  ASSERT_TRUE(solved.ok()) << solved.status().ToString();
+  EXPECT_LE((*solved - x).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST_P(SolverBackends, RejectsASingularNormalMatrixInsteadOfReturningGarbage) {
+  const MeshSequence sphere = testing::Icosphere(2);
+  const MeshTopology topo = BuildTopology(sphere.triangles(), sphere.vertex_count());
+  const auto tutte = BuildTutte(topo);
+  // No anchors: LᵀL has the constants in its null space.
+  const auto solver = SparseSpdSolver::Factor(BuildNormalMatrix(tutte->matrix, {}), Options());
+  ASSERT_FALSE(solver.ok());
+  EXPECT_EQ(solver.status().code(), ErrorCode::kNumericalFailure);
+}
+
+TEST_P(SolverBackends, RejectsAnIndefiniteMatrix) {
+  SparseMatrixD indefinite(2, 2);
+  indefinite.insert(0, 0) = 1.0;
+  indefinite.insert(1, 1) = -1.0;
+  const auto solver = SparseSpdSolver::Factor(indefinite, Options());
+  EXPECT_EQ(solver.status().code(), ErrorCode::kNumericalFailure);
+}
+
+TEST_P(SolverBackends, AnchoredSolverReproducesPositionsFromDifferentialCoordinates) {
+  const MeshSequence mesh = testing::Animate(testing::JitteredPlanarGrid(15, 0.3), 2);
+  const MeshTopology topo = BuildTopology(mesh.triangles(), mesh.vertex_count());
+  const FramePositionsD frame = mesh.frame_d(1);
+  const Eigen::MatrixXd x = frame;
+  for (const auto& op : {BuildTutte(topo), BuildCotan(topo, mesh.frame_d(0)),
+                         BuildCotanSym(topo, mesh.frame_d(0)), BuildMeanValue(topo, frame)}) {
+    ASSERT_TRUE(op.ok());
+    std::vector<int32_t> anchors = {0, 37, 112, 200};
+    const auto solver = AnchoredLaplacianSolver::Create(topo, op->matrix, anchors, 1.0, Options());
+    ASSERT_TRUE(solver.ok()) << op->name << ": " << solver.status().ToString();
+    Eigen::MatrixXd anchor_values(anchors.size(), 3);
+    for (size_t k = 0; k < anchors.size(); ++k) anchor_values.row(k) = x.row(anchors[k]);
+    const auto solved = solver->Solve(op->matrix * x, anchor_values);
+    ASSERT_TRUE(solved.ok()) << solved.status().ToString();
+    EXPECT_LE((*solved - x).cwiseAbs().maxCoeff(), 1e-9) << op->name;
+  }
+}
+
+TEST(AnchoredLaplacianSolver, RequiresAnAnchorInEveryComponent) {
+  const MeshSequence mesh = testing::TwoTetrahedraAndIsolatedVertex();
+  const MeshTopology topo = BuildTopology(mesh.triangles(), mesh.vertex_count());
+  const auto tutte = BuildTutte(topo);
+  const auto missing = AnchoredLaplacianSolver::Create(topo, tutte->matrix, {0, 8});
+  EXPECT_EQ(missing.status().code(), ErrorCode::kNumericalFailure);
+  EXPECT_THAT(missing.status().message(), HasSubstr("no anchor"));
+  const auto complete = AnchoredLaplacianSolver::Create(topo, tutte->matrix, {0, 5, 8});
+  ASSERT_TRUE(complete.ok()) << complete.status().ToString();
+  // The isolated vertex is fixed by its anchor alone.
+  const Eigen::MatrixXd x = mesh.frame_d(0);
+  Eigen::MatrixXd anchor_values(3, 3);
+  anchor_values << x.row(0), x.row(5), x.row(8);
+  const auto solved = complete->Solve(tutte->matrix * x, anchor_values);
+  ASSERT_TRUE(solved.ok());
+  EXPECT_LE((*solved - x).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(AnchoredLaplacianSolver, ValidatesShapes) {
+  const MeshSequence grid = testing::PlanarGrid(4);
+  const MeshTopology topo = BuildTopology(grid.triangles(), grid.vertex_count());
+  const auto tutte = BuildTutte(topo);
+  EXPECT_EQ(AnchoredLaplacianSolver::Create(topo, tutte->matrix, {99}).status().code(),
+            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(AnchoredLaplacianSolver::Create(topo, tutte->matrix, {0}, 0.0).status().code(),
+            ErrorCode::kInvalidArgument);
+  const auto solver = AnchoredLaplacianSolver::Create(topo, tutte->matrix, {0});
+  ASSERT_TRUE(solver.ok());
+  EXPECT_EQ(solver->Solve(Eigen::MatrixXd::Zero(3, 3), Eigen::MatrixXd::Zero(1, 3)).status().code(),
+            ErrorCode::kMismatch);
+  EXPECT_EQ(
+      solver->Solve(Eigen::MatrixXd::Zero(16, 3), Eigen::MatrixXd::Zero(2, 3)).status().code(),
+      ErrorCode::kMismatch);
+}
+
+TEST(SparseSpdSolver, ValidatesInputs) {
+  EXPECT_EQ(SparseSpdSolver::Factor(SparseMatrixD(2, 3)).status().code(),
+            ErrorCode::kInvalidArgument);
+  SparseMatrixD identity(3, 3);
+  identity.setIdentity();
+  const auto solver = SparseSpdSolver::Factor(identity);
+  ASSERT_TRUE(solver.ok());
+  EXPECT_EQ(solver->Solve(Eigen::MatrixXd::Ones(2, 1)).status().code(), ErrorCode::kMismatch);
+  const auto solved = solver->Solve(Eigen::MatrixXd::Constant(3, 2, 4.0));
+  ASSERT_TRUE(solved.ok());
+  EXPECT_EQ(*solved, Eigen::MatrixXd::Constant(3, 2, 4.0));
+}
+
+}  // namespace
+}  // namespace dmc
