@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <functional>
 #include <string>
 #include <utility>
@@ -92,13 +93,12 @@ StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
   const std::span<const uint8_t> body = payload.subspan(1);
   ByteReader reader(body);
   DMC_ASSIGN_OR_RETURN(const std::span<const uint8_t> draco_buffer, ReadDracoBuffer(reader));
-  uint8_t predictor_value;
-  DMC_RETURN_IF_ERROR(reader.GetU8(&predictor_value, "vertex label predictor"));
-  if (predictor_value >= kLabelPredictorCount) {
-    return CorruptStreamError("vertex label predictor " + ToString(predictor_value) +
-                              " is unknown");
+  uint8_t model_value;
+  DMC_RETURN_IF_ERROR(reader.GetU8(&model_value, "vertex label model"));
+  if (model_value >= kLabelModelCount) {
+    return CorruptStreamError("vertex label model " + ToString(model_value) + " is unknown");
   }
-  const auto predictor = static_cast<LabelPredictor>(predictor_value);
+  const LabelModel model = {static_cast<LabelPredictor>(model_value & 1), (model_value & 2) != 0};
   DMC_ASSIGN_OR_RETURN(Triangles draco_triangles,
                        DecodeDracoTriangles(draco_buffer, vertex_count, triangle_count));
 
@@ -106,17 +106,17 @@ StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
   const TriangleAdjacency adjacency(draco_triangles, v_count);
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(body.subspan(reader.position())));
-  std::array<IntegerContexts, kPredictionKindCount> contexts;
+  std::array<IntegerContexts, kLabelContextCount> contexts;
   UnusedLabels unused(v_count);
   std::vector<int32_t> labels(v_count, -1);
   int32_t previous_label = -1;
   std::vector<int64_t> scratch;
   for (const int32_t v : LabelCodingOrder(adjacency)) {
     const LabelPrediction prediction =
-        PredictLabel(adjacency, labels, v, predictor, previous_label, scratch);
+        PredictLabel(adjacency, labels, v, model.predictor, previous_label, scratch);
     int64_t rank_difference;
-    DMC_RETURN_IF_ERROR(
-        decoder.DecodeSigned(contexts[static_cast<int>(prediction.kind)], &rank_difference));
+    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(
+        contexts[LabelContext(prediction, unused, model.spread_contexts)], &rank_difference));
     if (decoder.overrun()) break;  // reported below as truncation, not as a bad rank
     const int64_t rank = unused.Rank(prediction.label) + rank_difference;
     if (rank < 0 || rank >= unused.remaining()) {
@@ -220,54 +220,74 @@ LabelPrediction PredictLabel(const TriangleAdjacency& adjacency, std::span<const
   const int64_t max_label = adjacency.vertex_count() - 1;
   auto clamped = [max_label](int64_t label) { return std::clamp<int64_t>(label, 0, max_label); };
   const Triangles& triangles = adjacency.triangles();
+  LabelPrediction prediction;
+  // Decoded neighbours: each appears once per incident triangle, so deduplicate by vertex
+  // before taking the median of their labels.
   scratch.clear();
-  if (predictor == LabelPredictor::kParallelogram) {
-    for (const int32_t f : adjacency.TrianglesOf(v)) {
-      // The corners after v in f: (v, a, b) in f's orientation.
-      const int corner = triangles(f, 0) == v ? 0 : (triangles(f, 1) == v ? 1 : 2);
-      const int32_t a = triangles(f, (corner + 1) % 3), b = triangles(f, (corner + 2) % 3);
-      if (labels[a] < 0 || labels[b] < 0) continue;
-      // The triangles across edge ab are among those of a and among those of b: scan the shorter
-      // list, and skip the edge when even that is long, so a crafted stream with huge fans cannot
-      // make decoding quadratic.
-      const std::span<const int32_t> around_a = adjacency.TrianglesOf(a);
-      const std::span<const int32_t> around_b = adjacency.TrianglesOf(b);
-      const std::span<const int32_t> around =
-          around_a.size() <= around_b.size() ? around_a : around_b;
-      if (around.size() > kMaxParallelogramScan) continue;
-      for (const int32_t g : around) {
-        if (g == f) continue;
-        int32_t c = -1;
-        int shared = 0;
-        for (int k = 0; k < 3; ++k) {
-          const int32_t u = triangles(g, k);
-          if (u == a || u == b) {
-            ++shared;
-          } else {
-            c = u;
-          }
-        }
-        if (shared != 2 || c < 0 || c == v || labels[c] < 0) continue;
-        scratch.push_back(int64_t{labels[a]} + labels[b] - labels[c]);
-      }
-    }
-    if (!scratch.empty()) return {clamped(LowerMedian(scratch)), PredictionKind::kParallelogram};
-  }
-  // Distinct decoded neighbours: each appears once per incident triangle, so deduplicate by
-  // vertex before taking the median of their labels.
   for (const int32_t f : adjacency.TrianglesOf(v)) {
     for (int k = 0; k < 3; ++k) {
       const int32_t u = triangles(f, k);
       if (u != v && labels[u] >= 0) scratch.push_back(u);
     }
   }
+  if (scratch.empty()) {
+    prediction.label = clamped(int64_t{previous_label} + 1);
+    return prediction;
+  }
   std::sort(scratch.begin(), scratch.end());
   scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
-  if (!scratch.empty()) {
-    for (int64_t& u : scratch) u = labels[static_cast<size_t>(u)];
-    return {clamped(LowerMedian(scratch)), PredictionKind::kNeighborMedian};
+  for (int64_t& u : scratch) u = labels[static_cast<size_t>(u)];
+  prediction.neighbor_min = static_cast<int32_t>(*std::min_element(scratch.begin(), scratch.end()));
+  prediction.neighbor_max = static_cast<int32_t>(*std::max_element(scratch.begin(), scratch.end()));
+  prediction.label = clamped(LowerMedian(scratch));
+  prediction.kind = PredictionKind::kNeighborMedian;
+  if (predictor != LabelPredictor::kParallelogram) return prediction;
+
+  scratch.clear();
+  for (const int32_t f : adjacency.TrianglesOf(v)) {
+    // The corners after v in f: (v, a, b) in f's orientation.
+    const int corner = triangles(f, 0) == v ? 0 : (triangles(f, 1) == v ? 1 : 2);
+    const int32_t a = triangles(f, (corner + 1) % 3), b = triangles(f, (corner + 2) % 3);
+    if (labels[a] < 0 || labels[b] < 0) continue;
+    // The triangles across edge ab are among those of a and among those of b: scan the shorter
+    // list, and skip the edge when even that is long, so a crafted stream with huge fans cannot
+    // make decoding quadratic.
+    const std::span<const int32_t> around_a = adjacency.TrianglesOf(a);
+    const std::span<const int32_t> around_b = adjacency.TrianglesOf(b);
+    const std::span<const int32_t> around =
+        around_a.size() <= around_b.size() ? around_a : around_b;
+    if (around.size() > kMaxParallelogramScan) continue;
+    for (const int32_t g : around) {
+      if (g == f) continue;
+      int32_t c = -1;
+      int shared = 0;
+      for (int k = 0; k < 3; ++k) {
+        const int32_t u = triangles(g, k);
+        if (u == a || u == b) {
+          ++shared;
+        } else {
+          c = u;
+        }
+      }
+      if (shared != 2 || c < 0 || c == v || labels[c] < 0) continue;
+      scratch.push_back(int64_t{labels[a]} + labels[b] - labels[c]);
+    }
   }
-  return {clamped(int64_t{previous_label} + 1), PredictionKind::kNoNeighbor};
+  if (!scratch.empty()) {
+    prediction.label = clamped(LowerMedian(scratch));
+    prediction.kind = PredictionKind::kParallelogram;
+  }
+  return prediction;
+}
+
+int LabelContext(const LabelPrediction& prediction, const UnusedLabels& unused,
+                 bool spread_contexts) {
+  const int base = static_cast<int>(prediction.kind) * kSpreadBuckets;
+  if (!spread_contexts || prediction.kind == PredictionKind::kNoNeighbor) return base;
+  const int32_t spread =
+      unused.Rank(prediction.neighbor_max) - unused.Rank(prediction.neighbor_min);
+  const int spread_bits = static_cast<int>(std::bit_width(static_cast<uint32_t>(spread)));
+  return base + std::min(spread_bits / 2, kSpreadBuckets - 1);
 }
 
 UnusedLabels::UnusedLabels(int32_t label_count)

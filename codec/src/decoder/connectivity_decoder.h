@@ -6,7 +6,7 @@
 //     the previous triangle's first index, the two others as deltas from the first, one
 //     IntegerContexts set per corner).
 //   method 1, kDracoWithVertexOrder: varint n, then n bytes of a Draco mesh buffer (see below),
-//     then u8 label predictor (LabelPredictor), then the range-coded vertex labels: the decoded
+//     then u8 label model (LabelModel), then the range-coded vertex labels: the decoded
 //     Draco point p becomes output vertex label[p], which restores the input vertex order.
 //   method 2, kDracoReordered: varint n, then n bytes of a Draco mesh buffer; output vertex p is
 //     Draco's point p (the stream header says the order is the codec's own).
@@ -20,7 +20,7 @@
 // vertex v a prediction y is formed from the labels already decoded (PredictLabel); what is sent is
 // the signed difference of ranks among the labels not yet used,
 //   r = #{unused labels < label[v]} - #{unused labels < y},
-// with one adaptive IntegerContexts set per prediction kind. Coding ranks rather than label
+// with one adaptive IntegerContexts set per LabelContext. Coding ranks rather than label
 // differences never spends code space on labels that are already taken.
 #pragma once
 
@@ -62,6 +62,21 @@ enum class LabelPredictor : uint8_t {
 inline constexpr int kLabelPredictorCount = 2;
 inline constexpr size_t kMaxParallelogramScan = 64;
 
+// How a method-1 payload codes labels. Wire byte: bit 0 the predictor, bit 1 spread_contexts,
+// the other bits 0. Which model is smallest depends on how the input was labelled (measured:
+// kNeighborMedian wins on samba, crane, horse, chicken; kParallelogram on dance and cow; spread
+// contexts gain 3-10% on horse, jump and elephant and lose up to 2% elsewhere), so the encoder
+// tries them all.
+struct LabelModel {
+  LabelPredictor predictor = LabelPredictor::kNeighborMedian;
+  bool spread_contexts = false;  // split contexts by the spread of the neighbours' labels
+
+  uint8_t wire() const {
+    return static_cast<uint8_t>(static_cast<uint8_t>(predictor) | (spread_contexts ? 2 : 0));
+  }
+};
+inline constexpr int kLabelModelCount = 2 * kLabelPredictorCount;
+
 // Kinds of prediction; each has its own adaptive contexts.
 enum class PredictionKind : uint8_t {
   kNoNeighbor = 0,  // no decoded neighbour: previous decoded label + 1 (0 for the first vertex)
@@ -102,6 +117,9 @@ std::vector<int32_t> LabelCodingOrder(const TriangleAdjacency& adjacency);
 struct LabelPrediction {
   int64_t label = 0;  // clamped to [0, V)
   PredictionKind kind = PredictionKind::kNoNeighbor;
+  // Smallest and largest label of the decoded neighbours (-1 when there is none).
+  int32_t neighbor_min = -1;
+  int32_t neighbor_max = -1;
 };
 
 // Predicts the label of vertex v. `labels[u]` is u's label if u is already decoded, else -1;
@@ -128,6 +146,14 @@ class UnusedLabels {
   int32_t remaining_ = 0;
   int32_t top_bit_ = 0;  // largest power of two <= n, for Select's descent
 };
+
+// Context sets: per prediction kind, and with spread contexts also per spread bucket
+// min(bit_width(s) / 2, kSpreadBuckets - 1), where s is the number of unused labels between the
+// smallest and the largest decoded neighbour label (a wide spread foretells a large error).
+inline constexpr int kSpreadBuckets = 6;
+inline constexpr int kLabelContextCount = kPredictionKindCount * kSpreadBuckets;
+int LabelContext(const LabelPrediction& prediction, const UnusedLabels& unused,
+                 bool spread_contexts);
 
 // Decodes the Draco buffer of a method-1/2 payload into its faces over Draco's points, after
 // checking the Draco header and its counts against the expected ones. When `point_values` is not

@@ -185,19 +185,21 @@ StatusOr<DracoCoding> EncodeDraco(const Triangles& triangles, int vertex_count) 
 // Range-codes the labels of the Draco points (see connectivity_decoder.h).
 std::vector<uint8_t> EncodeLabels(const connectivity::TriangleAdjacency& adjacency,
                                   const std::vector<int32_t>& order,
-                                  std::span<const int32_t> input_vertex, LabelPredictor predictor) {
+                                  std::span<const int32_t> input_vertex,
+                                  connectivity::LabelModel model) {
   RangeEncoder encoder;
-  std::array<IntegerContexts, connectivity::kPredictionKindCount> contexts;
+  std::array<IntegerContexts, connectivity::kLabelContextCount> contexts;
   connectivity::UnusedLabels unused(adjacency.vertex_count());
   std::vector<int32_t> labels(adjacency.vertex_count(), -1);
   int32_t previous_label = -1;
   std::vector<int64_t> scratch;
   for (const int32_t v : order) {
     const connectivity::LabelPrediction prediction =
-        connectivity::PredictLabel(adjacency, labels, v, predictor, previous_label, scratch);
+        connectivity::PredictLabel(adjacency, labels, v, model.predictor, previous_label, scratch);
     const int32_t label = input_vertex[v];
-    encoder.EncodeSigned(contexts[static_cast<int>(prediction.kind)],
-                         int64_t{unused.Rank(label)} - unused.Rank(prediction.label));
+    encoder.EncodeSigned(
+        contexts[connectivity::LabelContext(prediction, unused, model.spread_contexts)],
+        int64_t{unused.Rank(label)} - unused.Rank(prediction.label));
     unused.Remove(label);
     labels[v] = label;
     previous_label = label;
@@ -214,21 +216,21 @@ ConnectivityCode EncodeDracoWithVertexOrder(const DracoCoding& draco) {
   const connectivity::TriangleAdjacency adjacency(draco.decoded,
                                                   static_cast<int32_t>(draco.input_vertex.size()));
   const std::vector<int32_t> order = connectivity::LabelCodingOrder(adjacency);
-  // Which predictor wins depends on how the input was labelled: try each, keep the smallest.
+  // Which model wins depends on how the input was labelled: try each, keep the smallest.
   std::vector<uint8_t> best_labels;
-  LabelPredictor best_predictor = LabelPredictor::kNeighborMedian;
-  for (int p = 0; p < connectivity::kLabelPredictorCount; ++p) {
-    const auto predictor = static_cast<LabelPredictor>(p);
-    std::vector<uint8_t> coded = EncodeLabels(adjacency, order, draco.input_vertex, predictor);
+  connectivity::LabelModel best_model;
+  for (int wire = 0; wire < connectivity::kLabelModelCount; ++wire) {
+    const connectivity::LabelModel model = {static_cast<LabelPredictor>(wire & 1), (wire & 2) != 0};
+    std::vector<uint8_t> coded = EncodeLabels(adjacency, order, draco.input_vertex, model);
     if (best_labels.empty() || coded.size() < best_labels.size()) {
       best_labels = std::move(coded);
-      best_predictor = predictor;
+      best_model = model;
     }
   }
   ByteWriter writer;
   writer.PutU8(static_cast<uint8_t>(ConnectivityCoding::kDracoWithVertexOrder));
   AppendDracoBuffer(writer, draco.buffer);
-  writer.PutU8(static_cast<uint8_t>(best_predictor));
+  writer.PutU8(best_model.wire());
   writer.PutBytes(best_labels);
   ConnectivityCode code;
   code.payload = writer.Take();

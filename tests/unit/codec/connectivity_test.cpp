@@ -360,6 +360,8 @@ TEST(ConnectivityLabels, PredictionsFromDecodedNeighbours) {
       connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kNeighborMedian, 5, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kNoNeighbor);
   EXPECT_EQ(p.label, 6);
+  EXPECT_EQ(p.neighbor_min, -1);
+  EXPECT_EQ(connectivity::LabelContext(p, connectivity::UnusedLabels(9), true), 0);
   p = connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kNeighborMedian, 8, scratch);
   EXPECT_EQ(p.label, 8);  // clamped to V - 1
   // Vertices 0, 1, 4 decoded with their grid labels; predict vertex 3 (neighbours 0, 4, 6, 7).
@@ -367,6 +369,14 @@ TEST(ConnectivityLabels, PredictionsFromDecodedNeighbours) {
   p = connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kNeighborMedian, 4, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kNeighborMedian);
   EXPECT_EQ(p.label, 0);  // lower median of {0, 4}
+  EXPECT_EQ(p.neighbor_min, 0);
+  EXPECT_EQ(p.neighbor_max, 4);
+  // Context: kind 1 times 6 buckets; with spread contexts, unused labels between 0 and 4 are
+  // {2, 3}: spread 2, bit width 2, bucket 1.
+  connectivity::UnusedLabels unused(9);
+  for (const int32_t used : {0, 1, 4}) unused.Remove(used);
+  EXPECT_EQ(connectivity::LabelContext(p, unused, false), 6);
+  EXPECT_EQ(connectivity::LabelContext(p, unused, true), 7);
   // Triangle (0, 4, 3) faces triangle (0, 1, 4) across edge 0-4: 0 + 4 - 1 = 3, the true label.
   p = connectivity::PredictLabel(adjacency, labels, 3, LabelPredictor::kParallelogram, 4, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kParallelogram);
