@@ -1,12 +1,113 @@
-// Placeholder until its issue lands; replaced by the real subcommand.
+// dmc info: what a mesh sequence holds — sizes, topology, bounds, frame rate, warnings.
+#include <fmt/format.h>
+
+#include <memory>
+#include <optional>
+
 #include "cli_util.h"
 #include "commands.h"
+#include "dmc/io.h"
+#include "dmc/topology.h"
 
 namespace dmc::cli {
+namespace {
+
+struct InfoArgs {
+  std::string input;
+  std::string connectivity;
+  int max_frames = 0;
+  bool json = false;
+};
+
+int RunInfo(const InfoArgs& args) {
+  ReadOptions options;
+  options.connectivity = args.connectivity;
+  options.max_frames = args.max_frames;
+  std::optional<Progress> progress;
+  options.progress = [&progress](int done, int total) {
+    if (!progress) progress.emplace("reading", total);
+    progress->Update(done);
+  };
+  ReadReport report;
+  StatusOr<MeshSequence> read = ReadSequence(args.input, options, &report);
+  progress.reset();
+  if (!read.ok()) return ReportError("info", read.status(), args.json);
+  const MeshSequence& sequence = *read;
+
+  const MeshTopology topology = BuildTopology(sequence.triangles(), sequence.vertex_count());
+  ValidationReport validation;
+  const Status valid = ValidateSequence(sequence, &validation);
+  if (!valid.ok()) return ReportError("info", valid, args.json);
+  const BoundingBox box = ComputeBoundingBox(sequence);
+
+  if (args.json) {
+    nlohmann::json out = {
+        {"input", args.input},
+        {"name", sequence.name},
+        {"vertices", sequence.vertex_count()},
+        {"triangles", sequence.triangle_count()},
+        {"frames", sequence.frame_count()},
+        {"frame_rate",
+         sequence.frame_rate > 0.0 ? nlohmann::json(sequence.frame_rate) : nlohmann::json(nullptr)},
+        {"edges", topology.edge_count()},
+        {"boundary_edges", topology.boundary_edge_count},
+        {"boundary_loops", topology.boundary_loop_count},
+        {"components", topology.component_count},
+        {"isolated_vertices", topology.isolated_vertex_count},
+        {"non_manifold_edges", topology.non_manifold_edge_count},
+        {"manifold", topology.is_manifold()},
+        {"euler_characteristic", topology.euler_characteristic},
+        {"degenerate_triangles", validation.degenerate_triangles},
+        {"bounding_box",
+         {{"min", {box.min.x(), box.min.y(), box.min.z()}},
+          {"max", {box.max.x(), box.max.y(), box.max.z()}},
+          {"diagonal", box.diagonal()}}},
+        {"warnings", report.warnings},
+    };
+    PrintJson(out);
+    return 0;
+  }
+  for (const std::string& warning : report.warnings) ReportWarning("info", warning);
+  const auto row = [](std::string_view label, const std::string& value) {
+    fmt::print("  {:<22}{}\n", label, value);
+  };
+  fmt::print("{}: {} frame(s) of {} vertices, {} triangles\n", args.input, sequence.frame_count(),
+             sequence.vertex_count(), sequence.triangle_count());
+  row("frame rate",
+      sequence.frame_rate > 0.0 ? fmt::format("{} fps", sequence.frame_rate) : "unknown");
+  row("edges", std::to_string(topology.edge_count()));
+  row("boundary", fmt::format("{} edge(s) in {} loop(s)", topology.boundary_edge_count,
+                              topology.boundary_loop_count));
+  row("components", fmt::format("{} ({} isolated vertices)", topology.component_count,
+                                topology.isolated_vertex_count));
+  row("non-manifold edges", std::to_string(topology.non_manifold_edge_count));
+  row("Euler characteristic", std::to_string(topology.euler_characteristic));
+  row("degenerate triangles", std::to_string(validation.degenerate_triangles));
+  row("bounding box",
+      fmt::format("[{:.6g}, {:.6g}, {:.6g}] to [{:.6g}, {:.6g}, {:.6g}]", box.min.x(), box.min.y(),
+                  box.min.z(), box.max.x(), box.max.y(), box.max.z()));
+  row("diagonal", fmt::format("{:.6g}", box.diagonal()));
+  return 0;
+}
+
+}  // namespace
 
 Command AddInfoCommand(CLI::App& parent) {
-  CLI::App* app = parent.add_subcommand("info", "(not built yet)");
-  return {app, [] { return ReportError("info", UnsupportedError("not built yet")); }};
+  auto args = std::make_shared<InfoArgs>();
+  CLI::App* app = parent.add_subcommand(
+      "info",
+      "Describe a mesh sequence: vertices, triangles, frames, edges, boundary, "
+      "components, manifoldness, Euler characteristic, bounding box");
+  app->add_option("input", args->input,
+                  "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
+                  "one mesh file, or a .pc2 cache")
+      ->required();
+  app->add_option("--connectivity", args->connectivity,
+                  "PC2 only: mesh file giving the triangles (default: <stem>.obj beside it)");
+  app->add_option("--max-frames", args->max_frames, "Read only the first N frames (0 = all)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_flag("--json", args->json, "Print a JSON object instead of text");
+  return {app, [args] { return RunInfo(*args); }};
 }
 
 }  // namespace dmc::cli
