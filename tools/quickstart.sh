@@ -1,22 +1,24 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds dmc (Release), makes a built-in example sequence, and runs the
-# main job on it, printing a summary. Outputs go to ./out (override with DMC_OUT).
+# Installs dependencies, builds dmc (Release), makes a built-in example animation, compresses and
+# decompresses it, and prints a summary. Outputs go to ./out (override with DMC_OUT).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${DMC_BUILD_DIR:-$root/build}"
 out="${DMC_OUT:-$root/out}"
 
 "$root/tools/install-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DDMC_BUILD_TESTS=OFF >/dev/null
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j "$(nproc)" --target dmc_cli
 dmc="$build/bin/dmc"
 mkdir -p "$out"
 
-echo "== generating the built-in 'walker' example"
-"$dmc" synth walker -o "$out/walker.pc2" --frames 60 --resolution 4000
-echo "== info"
+echo "== 1. a built-in example: 'walker', an articulated figure animated by skinning"
+"$dmc" synth walker -o "$out/walker.pc2" --frames 120 --resolution 8000
 "$dmc" info "$out/walker.pc2"
-echo "== converting to a directory of OBJ frames and validating it"
-"$dmc" convert "$out/walker.pc2" -o "$out/walker_obj"
-"$dmc" info "$out/walker_obj"
+echo "== 2. encode (trajectory PCA -> data-dependent Laplacian -> high-pass quantisation)"
+"$dmc" encode "$out/walker.pc2" -o "$out/walker.dmc"
+echo "== 3. decode to a directory of OBJ frames"
+"$dmc" decode "$out/walker.dmc" -o "$out/walker_decoded"
+echo "== 4. distortion of the decoded frames against the original"
+"$dmc" metrics "$out/walker.pc2" "$out/walker_decoded"
 echo "== done: outputs in $out"

@@ -42,8 +42,8 @@ int RunDecode(const DecodeArgs& args) {
                {"vertices", sequence->vertex_count()},
                {"triangles", sequence->triangle_count()}});
   } else {
-    fmt::print("{}: {} frames x {} vertices, {} triangles\n", args.output,
-               sequence->frame_count(), sequence->vertex_count(), sequence->triangle_count());
+    fmt::print("{}: {} frames x {} vertices, {} triangles\n", args.output, sequence->frame_count(),
+               sequence->vertex_count(), sequence->triangle_count());
   }
   return 0;
 }

@@ -32,8 +32,8 @@ int RunEncode(const EncodeArgs& args) {
   if (!status.ok()) return ReportError("encode", status, args.json);
 
   const nlohmann::json breakdown = {
-      {"header", report.header_bytes},    {"connectivity", report.connectivity_bytes},
-      {"mean", report.mean_bytes},        {"basis", report.basis_bytes},
+      {"header", report.header_bytes},     {"connectivity", report.connectivity_bytes},
+      {"mean", report.mean_bytes},         {"basis", report.basis_bytes},
       {"operator", report.operator_bytes}, {"anchors", report.anchor_bytes},
       {"residuals", report.residual_bytes}};
   if (args.json) {
@@ -95,6 +95,9 @@ Command AddEncodeCommand(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--rank", o.rank, "PCA basis vectors per segment (0 = automatic)")
       ->capture_default_str();
+  app->add_option("--rank-threshold", o.rank_threshold,
+                  "Automatic rank: keep components with eigenvalue > T * V * step^2")
+      ->capture_default_str();
   app->add_option("--basis-bits", o.basis_bits, "Basis quantisation bits")->capture_default_str();
   app->add_option("--residual-bits", o.residual_bits,
                   "Residual step = bounding-box diagonal * 2^-bits")
@@ -110,8 +113,12 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_option("--weight-bits", o.weight_bits, "DDL weight step 2^-bits")->capture_default_str();
   app->add_option("--ddl-mu", o.ddl_regularization, "DDL Tikhonov pull toward Tutte")
       ->capture_default_str();
+  app->add_flag("--uniform-weight-prediction", o.weight_prediction_uniform,
+                "DDL weights predicted by the thesis's uniform share, not the degree reference");
   app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");
   app->add_option("--target-sted", o.target_sted, "Search parameters for this STED");
+  app->add_flag("--allow-reorder", o.allow_reorder,
+                "Let the output use the codec's vertex order (smaller connectivity)");
   app->add_flag("--no-measure", args->no_measure, "Skip decoding and measuring KG/STED");
   app->add_flag("--json", args->json, "Machine-readable output");
   return {app, [args] { return RunEncode(*args); }};

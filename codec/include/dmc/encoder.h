@@ -22,17 +22,25 @@ namespace dmc {
 struct EncoderOptions {
   std::string operator_name = "ddl";  // any codec-capable operator of the registry
   int rank = 0;                       // PCA basis vectors per segment; 0 = automatic
-  int basis_bits = 10;                // basis quantisation bits (2..16)
-  int residual_bits = 10;             // residual step = bbox diagonal * 2^-residual_bits
-  double residual_step = 0.0;         // absolute step; overrides residual_bits when > 0
-  int anchors = -1;                   // anchor vertices per segment; -1 = automatic
-  double anchor_step_ratio = 0.5;     // anchor quantisation step / residual step
-  int segment_frames = 0;             // maximum frames per segment; 0 = default
-  int weight_bits = 8;                // DDL weight step 2^-weight_bits
-  double ddl_regularization = 0.02;   // DDL Tikhonov pull toward Tutte (relative)
-  double target_bpfv = 0.0;           // > 0: search parameters for this rate
-  double target_sted = 0.0;           // > 0: search parameters for this distortion
-  bool measure = true;                // decode and measure KG/STED
+  // Automatic rank keeps component k while its eigenvalue λ_k > rank_threshold · V · Δ² (Δ the
+  // residual step): a component is worth its coefficients while dropping it would cost more
+  // squared error than quantising it does.
+  double rank_threshold = 10.0;
+  int basis_bits = 10;               // basis quantisation bits (2..16)
+  int residual_bits = 10;            // residual step = bbox diagonal * 2^-residual_bits
+  double residual_step = 0.0;        // absolute step; overrides residual_bits when > 0
+  int anchors = -1;                  // anchor vertices per segment; -1 = automatic
+  double anchor_step_ratio = 0.5;    // anchor quantisation step / residual step
+  int segment_frames = 0;            // maximum frames per segment; 0 = default
+  int weight_bits = 8;               // DDL weight step 2^-weight_bits
+  double ddl_regularization = 0.02;  // DDL Tikhonov pull toward Tutte (relative)
+  // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
+  // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
+  bool weight_prediction_uniform = false;
+  double target_bpfv = 0.0;    // > 0: search parameters for this rate
+  double target_sted = 0.0;    // > 0: search parameters for this distortion
+  bool allow_reorder = false;  // let the output use the codec's own vertex order
+  bool measure = true;         // decode and measure KG/STED
 };
 
 struct EncodeReport {

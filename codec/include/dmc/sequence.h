@@ -77,7 +77,9 @@ struct ValidationReport {
 Status ValidateSequence(const MeshSequence& sequence, ValidationReport* report = nullptr);
 
 // Fails with kMismatch naming the first difference if `a` and `b` cannot be compared vertex by
-// vertex (frame count, vertex count, triangle list).
+// vertex: frame count, vertex count, or triangles. Triangle lists match when they hold the same
+// set of oriented triangles (order and rotation of each triangle's indices may differ, as after
+// a codec's connectivity coding; orientation may not).
 Status CheckComparable(const MeshSequence& a, const MeshSequence& b);
 
 // Axis-aligned bounding box over all frames (double precision).

@@ -26,10 +26,7 @@ enum class ChunkType : uint8_t {
   kEnd = 15,            // last chunk; payload: varint chunk count before it
 };
 
-// Connectivity coding methods (frozen).
-enum class ConnectivityMethod : uint8_t {
-  kIndexed = 0,  // triangles in input order, range-coded index deltas
-};
+// Connectivity coding methods: see ConnectivityCoding in decoder/connectivity_decoder.h.
 
 // Limits a decoder enforces before allocating (a stream exceeding them is corrupt).
 inline constexpr uint64_t kMaxVertices = 1u << 26;
@@ -54,10 +51,11 @@ inline constexpr uint8_t kFlagReordered = 1;
 struct SegmentHeader {
   uint32_t first_frame = 0;
   uint32_t frame_count = 0;
-  uint32_t rank = 0;        // PCA basis vectors kept (0 allowed: mean only)
-  uint8_t operator_id = 0;  // OperatorId wire value
-  uint8_t basis_bits = 10;  // basis samples quantised to 2^(bits-1)-1 levels per sign
-  uint8_t weight_bits = 8;  // DDL weights in units of 2^-weight_bits
+  uint32_t rank = 0;              // PCA basis vectors kept (0 allowed: mean only)
+  uint8_t operator_id = 0;        // OperatorId wire value
+  uint8_t basis_bits = 10;        // basis samples quantised to 2^(bits-1)-1 levels per sign
+  uint8_t weight_bits = 8;        // DDL weights in units of 2^-weight_bits
+  uint8_t weight_prediction = 1;  // WeightPrediction of the DDL weight coder
   uint32_t anchor_count = 0;
   double mean_step = 0.0;      // quantisation step of the mean trajectory
   double residual_step = 0.0;  // quantisation step of delta-trajectories

@@ -67,6 +67,21 @@ std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology) {
   return schedule;
 }
 
+int64_t ReferenceWeight(const MeshTopology& topology, int edge) {
+  const int64_t di = topology.degree(topology.edges[edge][0]);
+  const int64_t dj = topology.degree(topology.edges[edge][1]);
+  return ((di + dj) << 20) / (2 * di * dj);
+}
+
+int64_t PredictWeight(WeightPrediction mode, int64_t remaining, const MeshTopology& topology,
+                      std::span<const int32_t> unknown_edges) {
+  const auto n = static_cast<int64_t>(unknown_edges.size());
+  if (mode == WeightPrediction::kUniform) return RoundDiv(remaining, n);
+  int64_t total = 0;
+  for (int32_t e : unknown_edges) total += ReferenceWeight(topology, e);
+  return RoundDiv(remaining * ReferenceWeight(topology, unknown_edges[0]), total);
+}
+
 int64_t RoundDiv(int64_t numerator, int64_t denominator) {
   const int64_t a = 2 * numerator + denominator;
   const int64_t b = 2 * denominator;

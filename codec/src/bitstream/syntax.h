@@ -28,6 +28,24 @@ struct WeightVisit {
 };
 std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology);
 
+// How an explicit DDL weight is predicted from the unit-sum constraint (frozen values):
+//  kUniform (thesis 5.4): p = (S - K) / n, the remaining sum shared equally among the n unknown
+//    edges of the vertex (S = 2^weight_bits, K = sum of its known weights).
+//  kReferenceProportional: p = (S - K) * r_e / sum of r_u over the n unknown edges, the remaining
+//    sum shared in proportion to a connectivity-only reference weight r (ReferenceWeight). When the
+//    fit is pulled toward that reference the residuals vanish, so the weight cost falls smoothly
+//    to zero as the DDL approaches the combinatorial operator.
+enum class WeightPrediction : uint8_t { kUniform = 0, kReferenceProportional = 1 };
+
+// Reference weight of an edge (i, j) in 2^-20 units: floor(2^20 (d_i + d_j) / (2 d_i d_j)), the
+// symmetric mean of the Tutte weights 1/d_i and 1/d_j (d = vertex degree).
+int64_t ReferenceWeight(const MeshTopology& topology, int edge);
+
+// Prediction of the weight of unknown_edges[0] given the remaining sum S - K; `unknown_edges` are
+// the vertex's still-unknown edges, the one to predict first.
+int64_t PredictWeight(WeightPrediction mode, int64_t remaining, const MeshTopology& topology,
+                      std::span<const int32_t> unknown_edges);
+
 // Rounded integer division a / b for b > 0, halves rounded towards +infinity:
 // floor((2a + b) / (2b)).
 int64_t RoundDiv(int64_t numerator, int64_t denominator);

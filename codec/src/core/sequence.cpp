@@ -1,5 +1,7 @@
 #include "dmc/sequence.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -99,9 +101,25 @@ Status CheckComparable(const MeshSequence& a, const MeshSequence& b) {
     return MismatchError("triangle counts differ: " + std::to_string(a.triangle_count()) + " vs " +
                          std::to_string(b.triangle_count()));
   }
-  for (int t = 0; t < a.triangle_count(); ++t) {
-    if (a.triangles().row(t) != b.triangles().row(t)) {
-      return MismatchError("triangle lists differ first at triangle " + std::to_string(t));
+  if (a.triangles() == b.triangles()) return Status::Ok();
+  // A codec may reorder triangles and rotate their indices: equal sets of oriented triangles
+  // describe the same mesh.
+  auto canonical = [](const Triangles& tris) {
+    std::vector<std::array<int32_t, 3>> out(tris.rows());
+    for (Eigen::Index t = 0; t < tris.rows(); ++t) {
+      std::array<int32_t, 3> tri = {tris(t, 0), tris(t, 1), tris(t, 2)};
+      std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+      out[t] = tri;
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  const auto set_a = canonical(a.triangles()), set_b = canonical(b.triangles());
+  for (size_t t = 0; t < set_a.size(); ++t) {
+    if (set_a[t] != set_b[t]) {
+      return MismatchError("triangle lists differ: oriented triangle (" +
+                           std::to_string(set_a[t][0]) + ", " + std::to_string(set_a[t][1]) + ", " +
+                           std::to_string(set_a[t][2]) + ") has no counterpart");
     }
   }
   return Status::Ok();

@@ -6,6 +6,7 @@
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
+#include "decoder/connectivity_decoder.h"
 #include "decoder/segment_reconstruction.h"
 #include "decoder/syntax_reader.h"
 #include "dmc/operators.h"
@@ -58,10 +59,11 @@ StatusOr<std::vector<RawChunk>> SplitChunks(std::span<const uint8_t> stream, int
   uint8_t version_major, version_minor, reserved;
   DMC_RETURN_IF_ERROR(reader.GetU8(&version_major, "major version"));
   DMC_RETURN_IF_ERROR(reader.GetU8(&version_minor, "minor version"));
-  if (version_major != format::kVersionMajor) {
+  if (version_major != format::kVersionMajor || version_minor > format::kVersionMinor) {
     return UnsupportedError(
         "format version " + std::to_string(version_major) + "." + std::to_string(version_minor) +
-        " is not supported (this decoder reads " + std::to_string(format::kVersionMajor) + ".x)");
+        " is not supported (this decoder reads " + std::to_string(format::kVersionMajor) + "." +
+        std::to_string(format::kVersionMinor) + " and older)");
   }
   DMC_RETURN_IF_ERROR(reader.GetU8(&reserved, "reserved byte"));
   if (reserved != 0) return CorruptStreamError("reserved header byte is not zero");
@@ -152,7 +154,8 @@ Status Decoder::Open(std::span<const uint8_t> stream) {
   if (uint64_t{header.vertex_count} * header.frame_count * 12 > (uint64_t{1} << 34)) {
     return UnsupportedError("decoded sequence would exceed 16 GiB");
   }
-  DMC_ASSIGN_OR_RETURN(triangles_, syntax::ReadConnectivity(payload(chunks[1]), header));
+  DMC_ASSIGN_OR_RETURN(triangles_, DecodeConnectivity(payload(chunks[1]), header.vertex_count,
+                                                      header.triangle_count));
   info_.vertex_count = static_cast<int>(header.vertex_count);
   info_.triangle_count = static_cast<int>(header.triangle_count);
   info_.frame_count = static_cast<int>(header.frame_count);

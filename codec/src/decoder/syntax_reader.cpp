@@ -46,43 +46,6 @@ StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> pay
   return header;
 }
 
-StatusOr<Triangles> ReadConnectivity(std::span<const uint8_t> payload,
-                                     const format::SequenceHeader& header) {
-  ByteReader reader(payload);
-  uint8_t method;
-  DMC_RETURN_IF_ERROR(reader.GetU8(&method, "connectivity method"));
-  if (method != static_cast<uint8_t>(format::ConnectivityMethod::kIndexed)) {
-    return UnsupportedError("connectivity method " + std::to_string(method) + " is unknown");
-  }
-  RangeDecoder decoder;
-  DMC_RETURN_IF_ERROR(decoder.Init(payload.subspan(1)));
-  IntegerContexts first, second, third;
-  // Every triangle costs at least one coded bit, so a short payload cannot claim huge counts.
-  if (header.triangle_count > 64 * payload.size() + 64) {
-    return CorruptStreamError("triangle count " + std::to_string(header.triangle_count) +
-                              " cannot fit in a connectivity payload of " +
-                              std::to_string(payload.size()) + " bytes");
-  }
-  Triangles triangles(header.triangle_count, 3);
-  int64_t previous = 0;
-  const int64_t v_count = header.vertex_count;
-  for (uint32_t t = 0; t < header.triangle_count; ++t) {
-    int64_t d0, d1, d2;
-    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(first, &d0));
-    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(second, &d1));
-    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(third, &d2));
-    const int64_t a = previous + d0, b = a + d1, c = a + d2;
-    if (a < 0 || a >= v_count || b < 0 || b >= v_count || c < 0 || c >= v_count) {
-      return CorruptStreamError("triangle " + std::to_string(t) +
-                                " has a vertex index outside [0, " + std::to_string(v_count) + ")");
-    }
-    triangles.row(t) << static_cast<int32_t>(a), static_cast<int32_t>(b), static_cast<int32_t>(c);
-    previous = a;
-  }
-  DMC_RETURN_IF_ERROR(decoder.CheckNotOverrun("connectivity"));
-  return triangles;
-}
-
 StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
                                                   uint32_t expected_first_frame,
                                                   uint32_t frames_left, uint32_t vertex_count) {
@@ -115,6 +78,11 @@ StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> paylo
   DMC_RETURN_IF_ERROR(reader.GetU8(&h.weight_bits, "weight bits"));
   if (h.weight_bits < 2 || h.weight_bits > 20) {
     return CorruptStreamError("weight bits " + std::to_string(h.weight_bits) + " outside [2, 20]");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetU8(&h.weight_prediction, "weight prediction"));
+  if (h.weight_prediction > 1) {
+    return CorruptStreamError("weight prediction mode " + std::to_string(h.weight_prediction) +
+                              " is unknown");
   }
   DMC_RETURN_IF_ERROR(reader.GetVarURange(&value, 1, vertex_count, "anchor count"));
   h.anchor_count = static_cast<uint32_t>(value);
@@ -207,7 +175,9 @@ Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topolo
       int64_t weight;
       if (j + 1 < n) {
         const int unknown = n - j;
-        const int64_t prediction = format::RoundDiv(unit_sum - sum, unknown);
+        const int64_t prediction = format::PredictWeight(
+            static_cast<format::WeightPrediction>(syntax.header.weight_prediction), unit_sum - sum,
+            topology, std::span<const int32_t>(visit.unknown_edges).subspan(j));
         int64_t residual;
         DMC_RETURN_IF_ERROR(
             decoder.DecodeSigned(contexts.by_unknown[std::min(unknown, 5) - 2], &residual));

@@ -15,8 +15,6 @@
 namespace dmc::syntax {
 
 StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> payload);
-StatusOr<Triangles> ReadConnectivity(std::span<const uint8_t> payload,
-                                     const format::SequenceHeader& header);
 // `frames_left`: frames of the sequence not yet covered by earlier segments.
 StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
                                                   uint32_t expected_first_frame,

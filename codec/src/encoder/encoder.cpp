@@ -13,6 +13,7 @@
 #include "dmc/decoder.h"
 #include "dmc/io.h"
 #include "dmc/operators.h"
+#include "encoder/connectivity_encoder.h"
 #include "encoder/segment_pca.h"
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
@@ -23,7 +24,6 @@ namespace {
 // Defaults chosen by measurement (see the README's rate-distortion notes).
 constexpr int kDefaultSegmentFrames = 256;
 constexpr int kMeanStepBits = 18;         // mean trajectory step = diagonal · 2^-18
-constexpr double kRankThreshold = 1.0;    // keep component k while λ_k > τ · V · Δ²
 constexpr double kAnchorFraction = 0.01;  // automatic anchor count = 1 % of the vertices
 
 struct CodecOperator {
@@ -63,6 +63,9 @@ Status ValidateOptions(const EncoderOptions& o) {
   }
   if (!std::isfinite(o.residual_step) || o.residual_step < 0.0) {
     return bad("--residual-step must be a finite value >= 0");
+  }
+  if (!std::isfinite(o.rank_threshold) || o.rank_threshold <= 0.0) {
+    return bad("--rank-threshold must be positive");
   }
   if (o.anchors < -1) return bad("--anchors must be >= 1, or -1 for automatic");
   if (!std::isfinite(o.anchor_step_ratio) || o.anchor_step_ratio <= 0.0) {
@@ -140,11 +143,13 @@ struct SegmentResult {
 // decoder's reconstruction of it.
 StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTopology& topology,
                                       const std::vector<int32_t>& vertex_order,
+                                      const std::vector<int32_t>& relabel,
                                       const EncoderOptions& options, OperatorId operator_id,
                                       double diagonal, double residual_step, int first_frame,
                                       int frame_count, ByteWriter& out) {
   const int v_count = sequence.vertex_count();
-  const Eigen::MatrixXd trajectories = TrajectoryMatrix(sequence, first_frame, frame_count);
+  const Eigen::MatrixXd trajectories =
+      TrajectoryMatrix(sequence, first_frame, frame_count, relabel);
   const TrajectoryPca pca = ComputeTrajectoryPca(trajectories);
 
   SegmentSyntax syntax;
@@ -154,7 +159,7 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
   const int max_rank = std::min<int>(3 * frame_count, std::max(v_count - 1, 0));
   int rank = options.rank;
   if (rank == 0) {
-    const double threshold = kRankThreshold * v_count * residual_step * residual_step;
+    const double threshold = options.rank_threshold * v_count * residual_step * residual_step;
     while (rank < max_rank && pca.eigenvalues[rank] > threshold) ++rank;
   }
   rank = std::min(rank, max_rank);
@@ -162,6 +167,10 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
   h.operator_id = static_cast<uint8_t>(operator_id);
   h.basis_bits = static_cast<uint8_t>(options.basis_bits);
   h.weight_bits = static_cast<uint8_t>(options.weight_bits);
+  const auto mode = options.weight_prediction_uniform
+                        ? format::WeightPrediction::kUniform
+                        : format::WeightPrediction::kReferenceProportional;
+  h.weight_prediction = static_cast<uint8_t>(mode);
   const int anchor_request =
       options.anchors >= 0 ? options.anchors
                            : std::max(1, static_cast<int>(std::lround(kAnchorFraction * v_count)));
@@ -195,12 +204,12 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
         LaplaceOperator fitted,
         FitDdlSymmetric(topology, SourceFromTrajectories(coefficients), operator_options));
     operator_payload = syntax::WriteDdlWeights(fitted.weights.values, topology, options.weight_bits,
-                                               &syntax.edge_weights);
+                                               mode, &syntax.edge_weights);
   } else if (operator_id == OperatorId::kDdl) {
     // Rank 0: nothing to reconstruct; send Tutte-like predicted weights (all residuals zero).
     std::vector<double> predicted(topology.edges.size(), 0.0);
-    operator_payload =
-        syntax::WriteDdlWeights(predicted, topology, options.weight_bits, &syntax.edge_weights);
+    operator_payload = syntax::WriteDdlWeights(predicted, topology, options.weight_bits, mode,
+                                               &syntax.edge_weights);
   }
 
   const std::vector<uint8_t> anchor_payload =
@@ -230,6 +239,7 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
 }
 
 StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
+                                          const ConnectivityCode& connectivity,
                                           const MeshTopology& topology,
                                           const EncoderOptions& options, double diagonal,
                                           EncodeReport* report) {
@@ -254,13 +264,13 @@ StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
   header.segment_count = static_cast<uint32_t>(segments);
   header.frame_rate = sequence.frame_rate;
   header.name = sequence.name;
+  if (!connectivity.vertex_order.empty()) header.flags |= format::kFlagReordered;
   format::ChunkSizes totals;
   size_t before = out.size();
   syntax::AppendChunk(out, format::ChunkType::kSequenceHeader, syntax::WriteSequenceHeader(header));
   totals.header += out.size();  // includes magic and version
   before = out.size();
-  syntax::AppendChunk(out, format::ChunkType::kConnectivity,
-                      syntax::WriteConnectivity(sequence.triangles()));
+  syntax::AppendChunk(out, format::ChunkType::kConnectivity, connectivity.payload);
   totals.connectivity += out.size() - before;
 
   const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
@@ -269,9 +279,10 @@ StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
   for (int s = 0; s < segments; ++s) {
     // Equal-sized segments (differing by at most one frame).
     const int count = frames / segments + (s < frames % segments ? 1 : 0);
-    DMC_ASSIGN_OR_RETURN(SegmentResult segment,
-                         EncodeSegment(sequence, topology, vertex_order, options, operator_id,
-                                       diagonal, residual_step, first_frame, count, out));
+    DMC_ASSIGN_OR_RETURN(
+        SegmentResult segment,
+        EncodeSegment(sequence, topology, vertex_order, connectivity.vertex_order, options,
+                      operator_id, diagonal, residual_step, first_frame, count, out));
     totals.header += segment.sizes.header;
     totals.mean += segment.sizes.mean;
     totals.basis += segment.sizes.basis;
@@ -312,9 +323,25 @@ StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
   return out.Take();
 }
 
+// Decodes `bytes` with the real decoder and measures it against the input. A reordered stream is
+// first mapped back to input vertex labels (output vertex i is input vertex relabel[i]).
 Status Measure(const MeshSequence& sequence, const std::vector<uint8_t>& bytes,
-               EncodeReport* report) {
+               const std::vector<int32_t>& relabel, EncodeReport* report) {
   DMC_ASSIGN_OR_RETURN(MeshSequence decoded, Decode(bytes));
+  if (!relabel.empty()) {
+    MeshSequence restored(decoded.vertex_count(), decoded.triangles(), decoded.frame_count());
+    for (Eigen::Index t = 0; t < restored.triangle_count(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        restored.mutable_triangles()(t, k) = relabel[decoded.triangles()(t, k)];
+      }
+    }
+    for (int f = 0; f < decoded.frame_count(); ++f) {
+      for (int v = 0; v < decoded.vertex_count(); ++v) {
+        restored.frame(f).row(relabel[v]) = decoded.frame(f).row(v);
+      }
+    }
+    decoded = std::move(restored);
+  }
   DMC_ASSIGN_OR_RETURN(report->distortion, MeasureDistortion(sequence, decoded));
   report->measured = true;
   return Status::Ok();
@@ -331,7 +358,11 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
       static_cast<uint64_t>(sequence.vertex_count()) > format::kMaxVertices) {
     return UnsupportedError("sequence exceeds the format's limits");
   }
-  const MeshTopology topology = BuildTopology(sequence.triangles(), sequence.vertex_count());
+  // Connectivity first: the rest of the stream uses the decoder's vertex labels and topology.
+  DMC_ASSIGN_OR_RETURN(
+      const ConnectivityCode connectivity,
+      EncodeConnectivity(sequence.triangles(), sequence.vertex_count(), options.allow_reorder));
+  const MeshTopology topology = BuildTopology(connectivity.triangles, sequence.vertex_count());
   const double diagonal = std::max(ComputeBoundingBox(sequence).diagonal(), 1e-12);
   EncodeReport local;
   EncodeReport& out = report ? *report : local;
@@ -351,12 +382,12 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
       chosen.residual_step = std::ldexp(diagonal, 0) * std::pow(2.0, -bits);
       EncodeReport trial;
       DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> candidate,
-                           EncodeOnce(sequence, topology, chosen, diagonal, &trial));
+                           EncodeOnce(sequence, connectivity, topology, chosen, diagonal, &trial));
       bool meets;
       if (options.target_bpfv > 0.0) {
         meets = trial.bpfv <= options.target_bpfv;
       } else {
-        DMC_RETURN_IF_ERROR(Measure(sequence, candidate, &trial));
+        DMC_RETURN_IF_ERROR(Measure(sequence, candidate, connectivity.vertex_order, &trial));
         meets = trial.distortion.sted <= options.target_sted;
       }
       // Meeting a rate target: finer steps are better while they fit; meeting a distortion
@@ -385,9 +416,11 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
     bytes = std::move(best);
     out = best_report;
   } else {
-    DMC_ASSIGN_OR_RETURN(bytes, EncodeOnce(sequence, topology, chosen, diagonal, &out));
+    DMC_ASSIGN_OR_RETURN(bytes,
+                         EncodeOnce(sequence, connectivity, topology, chosen, diagonal, &out));
   }
-  if (options.measure && !out.measured) DMC_RETURN_IF_ERROR(Measure(sequence, bytes, &out));
+  if (options.measure && !out.measured)
+    DMC_RETURN_IF_ERROR(Measure(sequence, bytes, connectivity.vertex_order, &out));
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return bytes;
 }

@@ -8,11 +8,18 @@
 
 namespace dmc {
 
-Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count) {
+Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count,
+                                 const std::vector<int32_t>& relabel) {
   const int v_count = sequence.vertex_count();
   Eigen::MatrixXd x(v_count, 3 * frame_count);
   for (int f = 0; f < frame_count; ++f) {
-    x.middleCols(3 * f, 3) = sequence.frame(first_frame + f).cast<double>();
+    const auto frame = sequence.frame(first_frame + f);
+    if (relabel.empty()) {
+      x.middleCols(3 * f, 3) = frame.cast<double>();
+    } else {
+      for (int v = 0; v < v_count; ++v)
+        x.block(v, 3 * f, 1, 3) = frame.row(relabel[v]).cast<double>();
+    }
   }
   return x;
 }

@@ -5,13 +5,17 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
+#include <vector>
 
 #include "dmc/sequence.h"
 
 namespace dmc {
 
-// V × 3F trajectories of frames [first_frame, first_frame + frame_count), in double.
-Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count);
+// V × 3F trajectories of frames [first_frame, first_frame + frame_count), in double. With a
+// non-empty `relabel`, row i holds input vertex relabel[i] (the codec's vertex order).
+Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count,
+                                 const std::vector<int32_t>& relabel = {});
 
 struct TrajectoryPca {
   Eigen::VectorXd mean;          // 3F: mean over vertices of the trajectories

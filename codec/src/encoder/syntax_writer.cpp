@@ -28,23 +28,6 @@ std::vector<uint8_t> WriteSequenceHeader(const format::SequenceHeader& header) {
   return w.Take();
 }
 
-std::vector<uint8_t> WriteConnectivity(const Triangles& triangles) {
-  RangeEncoder encoder;
-  IntegerContexts first, second, third;
-  int64_t previous = 0;
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-    const int64_t a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
-    encoder.EncodeSigned(first, a - previous);
-    encoder.EncodeSigned(second, b - a);
-    encoder.EncodeSigned(third, c - a);
-    previous = a;
-  }
-  std::vector<uint8_t> payload = {static_cast<uint8_t>(format::ConnectivityMethod::kIndexed)};
-  const std::vector<uint8_t> coded = encoder.Finish();
-  payload.insert(payload.end(), coded.begin(), coded.end());
-  return payload;
-}
-
 std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& h) {
   ByteWriter w;
   w.PutVarU(h.first_frame);
@@ -53,6 +36,7 @@ std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& h) {
   w.PutU8(h.operator_id);
   w.PutU8(h.basis_bits);
   w.PutU8(h.weight_bits);
+  w.PutU8(h.weight_prediction);
   w.PutVarU(h.anchor_count);
   w.PutF64(h.mean_step);
   w.PutF64(h.residual_step);
@@ -123,6 +107,7 @@ std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::Segm
 
 std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
                                      const MeshTopology& topology, int weight_bits,
+                                     format::WeightPrediction prediction_mode,
                                      std::vector<int64_t>* decoded) {
   RangeEncoder encoder;
   format::WeightContexts contexts;
@@ -138,7 +123,9 @@ std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
       int64_t weight;
       if (j + 1 < n) {
         const int unknown = n - j;
-        const int64_t prediction = format::RoundDiv(unit_sum - sum, unknown);
+        const int64_t prediction =
+            format::PredictWeight(prediction_mode, unit_sum - sum, topology,
+                                  std::span<const int32_t>(visit.unknown_edges).subspan(j));
         weight = std::llround(edge_weights[e] * scale);
         encoder.EncodeSigned(contexts.by_unknown[std::min(unknown, 5) - 2], weight - prediction);
       } else {

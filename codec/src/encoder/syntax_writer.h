@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bitstream/format.h"
+#include "bitstream/syntax.h"
 #include "dmc/sequence.h"
 #include "dmc/topology.h"
 #include "entropy/byte_io.h"
@@ -17,7 +18,6 @@ namespace dmc::syntax {
 void AppendChunk(ByteWriter& out, format::ChunkType type, const std::vector<uint8_t>& payload);
 
 std::vector<uint8_t> WriteSequenceHeader(const format::SequenceHeader& header);
-std::vector<uint8_t> WriteConnectivity(const Triangles& triangles);
 std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& header);
 
 // Quantises the mean trajectory with header.mean_step; returns the dequantised trajectory.
@@ -35,6 +35,7 @@ std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::Segm
 // integer weights the decoder will rebuild.
 std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
                                      const MeshTopology& topology, int weight_bits,
+                                     format::WeightPrediction prediction_mode,
                                      std::vector<int64_t>* decoded);
 
 // Codes ascending anchor indices and their coefficients quantised with header.anchor_step;

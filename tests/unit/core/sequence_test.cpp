@@ -72,7 +72,16 @@ TEST(CheckComparable, NamesTheDifference) {
   EXPECT_EQ(CheckComparable(a, testing::Tetrahedron(2)).message(), "frame counts differ: 3 vs 2");
   MeshSequence b = a;
   b.mutable_triangles()(3, 0) = 1;
-  EXPECT_EQ(CheckComparable(a, b).message(), "triangle lists differ first at triangle 3");
+  EXPECT_EQ(CheckComparable(a, b).message(),
+            "triangle lists differ: oriented triangle (0, 3, 2) has no counterpart");
+  MeshSequence reordered = a;  // same oriented triangles, other order and rotations
+  reordered.mutable_triangles().row(0) = a.triangles().row(3);
+  reordered.mutable_triangles().row(3) << a.triangles()(0, 1), a.triangles()(0, 2),
+      a.triangles()(0, 0);
+  EXPECT_TRUE(CheckComparable(a, reordered).ok());
+  MeshSequence flipped = a;  // orientation differs
+  std::swap(flipped.mutable_triangles()(1, 0), flipped.mutable_triangles()(1, 1));
+  EXPECT_EQ(CheckComparable(a, flipped).code(), ErrorCode::kMismatch);
   EXPECT_EQ(CheckComparable(a, testing::PlanarGrid(3, 3)).code(), ErrorCode::kMismatch);
 }
 
