@@ -7,7 +7,9 @@
 #include <numbers>
 #include <random>
 
+#include "dmc/io.h"
 #include "dmc/metrics.h"
+#include "test_support.h"
 
 namespace dmc {
 namespace {
@@ -150,6 +152,16 @@ TEST(Diameter, EqualsBruteForceWithExactTies) {
   FramePositions repeated(500, 3);
   for (int i = 0; i < 500; ++i) repeated.row(i) = base.row(i % 5);
   EXPECT_EQ(PointSetDiameter(repeated), BruteForceDiameter(repeated));
+}
+
+TEST(Diameter, EqualsBruteForceOnRealMeshes) {
+  for (const char* name : {"horse-gallop/0001.obj", "samba/mesh_0000.obj"}) {
+    DMC_REQUIRE_SHARED_DATA(path, name);
+    const auto sequence = ReadSequence(path);
+    ASSERT_TRUE(sequence.ok()) << sequence.status().ToString();
+    const FramePositions frame = sequence->frame(0);
+    EXPECT_EQ(PointSetDiameter(frame), BruteForceDiameter(frame)) << name;
+  }
 }
 
 }  // namespace

@@ -38,7 +38,9 @@ inline Frame Translated(const Frame& frame, const std::array<float, 3>& offset) 
   return moved;
 }
 
-// Relative closeness for values computed along different (but equivalent) arithmetic paths.
+// Tolerance for values computed along different (but equivalent) arithmetic paths: `relative`
+// times the value's magnitude, and never below `relative` itself (values under 1 get an absolute
+// tolerance, so exact zeros can be compared too).
 inline double RelativeTolerance(double expected, double relative = 1e-12) {
   return relative * std::max(1.0, std::abs(expected));
 }
