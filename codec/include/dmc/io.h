@@ -85,7 +85,9 @@ struct WriteOptions {
 //  - anything else: a directory of frame_0000.<fmt>, frame_0001.<fmt>, ... (at least 4 digits,
 //    more when there are 10000 frames or more). An existing directory is replaced only when it
 //    holds nothing but frame files (so a typo cannot wipe an unrelated folder).
-// frame_rate > 0 is recorded as a "dmc frame_rate" comment so ReadSequence gets it back.
+// frame_rate > 0 is recorded as a "dmc frame_rate" comment so ReadSequence gets it back. The
+// output's parent directory must exist (kIoError otherwise); the output directory itself is
+// created.
 Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output,
                      const WriteOptions& options = {});
 

@@ -19,6 +19,21 @@ Status IoErrorFromErrno(const std::string& what, const std::filesystem::path& pa
   return IoError(what + " " + path.string() + ": " + std::strerror(error));
 }
 
+Status CheckParentDirectory(const std::filesystem::path& path) {
+  const std::filesystem::path parent = path.parent_path();
+  if (parent.empty()) return Status::Ok();
+  struct stat info {};
+  if (::stat(parent.c_str(), &info) != 0) {
+    return IoError("cannot write " + path.string() + ": the directory " + parent.string() +
+                   " does not exist");
+  }
+  if (!S_ISDIR(info.st_mode)) {
+    return IoError("cannot write " + path.string() + ": " + parent.string() +
+                   " is not a directory");
+  }
+  return Status::Ok();
+}
+
 std::filesystem::path TemporarySibling(const std::filesystem::path& path) {
   static std::atomic<uint64_t> counter{0};
   return path.parent_path() /
@@ -74,6 +89,7 @@ Status WriteFileAtomically(const std::filesystem::path& path, std::span<const ui
   if (path.empty() || !path.has_filename()) {
     return InvalidArgumentError("cannot write to '" + path.string() + "': not a file name");
   }
+  DMC_RETURN_IF_ERROR(io_internal::CheckParentDirectory(path));
   const std::filesystem::path temporary = io_internal::TemporarySibling(path);
   DMC_RETURN_IF_ERROR(io_internal::WriteNewFile(temporary, bytes, /*sync=*/true));
   return io_internal::RenameIntoPlace(temporary, path);

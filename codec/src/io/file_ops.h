@@ -22,6 +22,10 @@ Status WriteNewFile(const std::filesystem::path& path, std::span<const uint8_t> 
 // Renames `from` over `to` (replacing a file, never a directory). On failure `from` is removed.
 Status RenameIntoPlace(const std::filesystem::path& from, const std::filesystem::path& to);
 
+// kIoError "cannot write <path>: the directory <parent> does not exist" (or is not a directory);
+// outputs are never given missing parent directories implicitly.
+Status CheckParentDirectory(const std::filesystem::path& path);
+
 // "<what> <path>: <system reason>" as kIoError.
 Status IoErrorFromErrno(const std::string& what, const std::filesystem::path& path, int error);
 

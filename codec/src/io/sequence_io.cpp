@@ -508,6 +508,7 @@ Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& 
   DMC_RETURN_IF_ERROR(
       ValidateSequence(sequence).WithContext("cannot write " + output_path.string()));
   const std::filesystem::path output = WithoutTrailingSeparator(output_path);
+  DMC_RETURN_IF_ERROR(io_internal::CheckParentDirectory(output));
   const std::string extension = Lowercase(output.extension().string());
 
   if (extension == ".pc2") return WritePc2Pair(sequence, output, options);
