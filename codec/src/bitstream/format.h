@@ -7,26 +7,17 @@
 #include <string>
 #include <vector>
 
+#include "dmc/wire_ids.h"
+
 namespace dmc::format {
 
 inline constexpr std::array<uint8_t, 4> kMagic = {'D', 'M', 'C', 0x1A};
 inline constexpr uint8_t kVersionMajor = 1;
 inline constexpr uint8_t kVersionMinor = 0;
 
-// Chunk types (frozen wire IDs).
-enum class ChunkType : uint8_t {
-  kSequenceHeader = 1,  // once, first
-  kConnectivity = 2,    // once, second
-  kSegmentHeader = 3,   // starts a segment
-  kMean = 4,            // the segment's mean trajectory
-  kBasis = 5,           // the segment's quantised PCA basis
-  kOperator = 6,        // operator side information (DDL weights, reference frame)
-  kAnchors = 7,         // anchor vertex indices and coefficients
-  kResiduals = 8,       // quantised delta-trajectories
-  kEnd = 15,            // last chunk; payload: varint chunk count before it
-};
-
-// Connectivity coding methods: see ConnectivityCoding in decoder/connectivity_decoder.h.
+// Chunk types and connectivity methods are frozen wire IDs: dmc/wire_ids.h.
+using ChunkType = ::dmc::ChunkType;
+using ConnectivityMethod = ::dmc::ConnectivityMethod;
 
 // Limits a decoder enforces before allocating (a stream exceeding them is corrupt).
 inline constexpr uint64_t kMaxVertices = 1u << 26;

@@ -30,15 +30,12 @@
 
 #include "dmc/sequence.h"
 #include "dmc/status.h"
+#include "dmc/wire_ids.h"
 
 namespace dmc {
 
-// Wire values of the connectivity methods (mirrors format::ConnectivityMethod).
-enum class ConnectivityCoding : uint8_t {
-  kIndexed = 0,
-  kDracoWithVertexOrder = 1,
-  kDracoReordered = 2,
-};
+// Wire values of the connectivity methods: the frozen IDs of dmc/wire_ids.h.
+using ConnectivityCoding = ConnectivityMethod;
 
 // Decodes a connectivity payload into the triangle list of the output vertex order. Safe on
 // untrusted input: sizes, counts and indices are checked before use; any inconsistency is
