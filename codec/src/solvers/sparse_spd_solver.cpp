@@ -9,6 +9,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <variant>
 
@@ -51,6 +52,13 @@ int CholmodOrdering(SolverOrdering ordering, Eigen::Index size) {
 }
 
 using EigenLdlt = Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>>;
+
+// "1.23e-15": std::to_string prints fixed-point, which shows tiny ratios as 0.000000.
+std::string Scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3g", value);
+  return text;
+}
 
 std::string SizeText(const SparseMatrixD& matrix) {
   return std::to_string(matrix.rows()) + "×" + std::to_string(matrix.cols());
@@ -144,8 +152,8 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
   }
   if (!(impl->pivot_ratio >= options.min_pivot_ratio)) {
     return NumericalFailureError(what + ": numerically singular (pivot ratio " +
-                                 std::to_string(impl->pivot_ratio) + " < " +
-                                 std::to_string(options.min_pivot_ratio) + ")");
+                                 Scientific(impl->pivot_ratio) + " < " +
+                                 Scientific(options.min_pivot_ratio) + ")");
   }
   return SparseSpdSolver(std::move(impl));
 }
@@ -165,8 +173,7 @@ StatusOr<Eigen::MatrixXd> SparseSpdSolver::Solve(const Eigen::MatrixXd& rhs) con
   const Eigen::MatrixXd residual = impl_->matrix.selfadjointView<Eigen::Lower>() * solution - rhs;
   const double rhs_norm = rhs.norm();
   if (residual.norm() > impl_->options.max_relative_residual * rhs_norm) {
-    return NumericalFailureError("sparse solve residual " +
-                                 std::to_string(residual.norm() / rhs_norm) +
+    return NumericalFailureError("sparse solve residual " + Scientific(residual.norm() / rhs_norm) +
                                  " (relative) exceeds the tolerance: matrix too ill-conditioned");
   }
   return solution;
