@@ -67,6 +67,15 @@ std::filesystem::path WithoutTrailingSeparator(const std::filesystem::path& path
   return path.has_filename() ? path : path.parent_path();
 }
 
+// The name of a directory as a user would say it: "samba" for "data/samba/", "." or "".
+std::string DirectoryName(const std::filesystem::path& directory) {
+  std::error_code error;
+  const std::filesystem::path absolute =
+      std::filesystem::absolute(directory.empty() ? "." : directory, error);
+  if (error) return directory.string();
+  return WithoutTrailingSeparator(absolute.lexically_normal()).filename().string();
+}
+
 // Regular files of `directory` whose names satisfy `keep`, in natural order.
 template <typename Keep>
 StatusOr<std::vector<std::filesystem::path>> ListFiles(const std::filesystem::path& directory,
@@ -327,7 +336,7 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const Re
     if (options.max_frames > 0 && static_cast<int>(files.size()) > options.max_frames) {
       files.resize(static_cast<size_t>(options.max_frames));
     }
-    name = WithoutTrailingSeparator(input).filename().string();
+    name = DirectoryName(input);
     sequence = ReadFrameFiles(files, options, warnings);
   } else if (!std::filesystem::exists(status) &&
              input.filename().string().find_first_of("*?[") != std::string::npos) {
@@ -335,7 +344,7 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const Re
     if (options.max_frames > 0 && static_cast<int>(files.size()) > options.max_frames) {
       files.resize(static_cast<size_t>(options.max_frames));
     }
-    name = std::filesystem::absolute(input.parent_path(), error).filename().string();
+    name = DirectoryName(input.parent_path());
     sequence = ReadFrameFiles(files, options, warnings);
   } else if (!std::filesystem::exists(status)) {
     return IoError("cannot open " + input.string() + ": no such file or directory");

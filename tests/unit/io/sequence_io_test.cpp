@@ -220,6 +220,16 @@ TEST(InputResolutionTest, DirectoryFramesAreInNaturalOrderAndHiddenFilesSkipped)
   EXPECT_EQ(ReadOrDie(dir.path(), two).frame_count(), 2);
 }
 
+TEST(InputResolutionTest, NamesTheSequenceAfterItsDirectoryOrFile) {
+  ScratchDir dir;
+  WriteText(dir / "walk" / "f1.obj", TetrahedronFrame(1));
+  EXPECT_EQ(ReadOrDie(dir / "walk").name, "walk");
+  EXPECT_EQ(ReadOrDie(dir.path().string() + "/walk/").name, "walk");
+  EXPECT_EQ(ReadOrDie(dir / "walk" / ".." / "walk" / ".").name, "walk");
+  EXPECT_EQ(ReadOrDie(dir / "walk" / "f*.obj").name, "walk");
+  EXPECT_EQ(ReadOrDie(dir / "walk" / "f1.obj").name, "f1");
+}
+
 TEST(InputResolutionTest, GlobSelectsMatchingFilesInNaturalOrder) {
   ScratchDir dir;
   for (int n : {10, 2, 1})
