@@ -16,7 +16,7 @@ struct GeneratorEntry {
 
 // The generator table: one row per built-in animation, in the order SynthNames() lists them.
 constexpr GeneratorEntry kGenerators[] = {
-    {"twist", "closed capped tube that twists and bends", synth::GenerateTwist},
+    {"twist", "closed capped tube of elliptic section that twists and bends", synth::GenerateTwist},
     {"cloth", "flag pinned on one edge, waving (travelling waves + noise); has a boundary",
      synth::GenerateCloth},
     {"walker", "six-part figure walking, linear blend skinning of an 11-bone skeleton",

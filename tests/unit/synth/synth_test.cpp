@@ -4,17 +4,20 @@
 #include "dmc/synth.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "dmc/io.h"
 #include "dmc/topology.h"
 
 namespace dmc {
@@ -265,6 +268,21 @@ TEST_P(SynthGeneratorTest, MotionIsSmoothVisibleAndFreeOfCollapse) {
 
 INSTANTIATE_TEST_SUITE_P(AllGenerators, SynthGeneratorTest, ::testing::ValuesIn(kShapes),
                          [](const auto& info) { return std::string(info.param.name); });
+
+// The generators' output is what the quickstart writes: it must survive a PC2 round trip bit for
+// bit, frame rate included.
+TEST(SynthOutput, RoundTripsThroughAPointCache) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("dmc_synth_roundtrip_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const MeshSequence walker = MustSynthesize("walker", {.frames = 4, .resolution = 400});
+  ASSERT_TRUE(WriteSequence(walker, dir / "walker.pc2").ok());
+  const StatusOr<MeshSequence> read = ReadSequence(dir / "walker.pc2");
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(read.ok()) << read.status().ToString();
+  EXPECT_TRUE(SameBytes(*read, walker));
+  EXPECT_EQ(read->frame_rate, 30.0);
+}
 
 TEST(SynthCloth, PinnedEdgeStaysStill) {
   const MeshSequence cloth = MustSynthesize("cloth", {.frames = 20, .resolution = 1000});
