@@ -225,7 +225,13 @@ StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
   if (solver_options.ordering == SolverOrdering::kAuto) {
     solver_options.ordering = e_count < 150000 ? SolverOrdering::kAmd : SolverOrdering::kMetis;
   }
-  DMC_ASSIGN_OR_RETURN(SparseSpdSolver solver, SparseSpdSolver::Factor(system, solver_options));
+  StatusOr<SparseSpdSolver> factored = SparseSpdSolver::Factor(system, solver_options);
+  if (!factored.ok()) {
+    // K is definite in exact arithmetic (2μ_t > 0); failing here means the data leave weights so
+    // undetermined that min_mu is lost in rounding.
+    return factored.status().WithContext("ddl: fit system (raise mu or min_mu)");
+  }
+  const SparseSpdSolver& solver = *factored;
 
   Eigen::VectorXd multipliers = Eigen::VectorXd::Zero(constraints.row_count);
   Eigen::VectorXd w(e_count);
