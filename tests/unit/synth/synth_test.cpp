@@ -101,7 +101,8 @@ int DuplicateVertexCount(const MeshSequence& sequence) {
 double MaxSecondDifference(const MeshSequence& sequence) {
   double worst = 0.0;
   for (int f = 1; f + 1 < sequence.frame_count(); ++f) {
-    const auto acceleration =
+    // Evaluated into a vector: an `auto` Eigen expression would reference dead temporaries.
+    const Eigen::VectorXd acceleration =
         (sequence.frame_d(f + 1) - 2.0 * sequence.frame_d(f) + sequence.frame_d(f - 1))
             .rowwise()
             .norm();
