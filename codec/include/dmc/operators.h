@@ -74,7 +74,7 @@ struct OperatorWeights {
 
 // Repairs and diagnostics of an operator build. All counts are zero on a clean, well-shaped mesh.
 struct OperatorStats {
-  int clamped_cotangents = 0;    // cotangents outside ±max_cotangent (near-degenerate angles)
+  int clamped_cotangents = 0;    // cot (mean-value: tan(α/2)) beyond max_cotangent: slivers
   int degenerate_triangles = 0;  // triangles of (near) zero area in the reference frame
   int fallback_rows = 0;         // rows whose normalising sum was ≤ 0 or tiny: Tutte row used
   int clamped_areas = 0;         // vertices whose Voronoi area was floored (cotan-area)

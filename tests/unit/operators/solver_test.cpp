@@ -91,6 +91,24 @@ TEST_P(SolverBackends, AnchoredSolverReproducesPositionsFromDifferentialCoordina
   }
 }
 
+TEST(SparseSpdSolver, OrderingsGiveTheSameSolution) {
+  const MeshSequence grid = testing::JitteredPlanarGrid(72, 0.3);  // 5184 vertices: METIS range
+  const MeshTopology topo = BuildTopology(grid.triangles(), grid.vertex_count());
+  const auto cotan = BuildCotanSym(topo, grid.frame_d(0));
+  const SparseMatrixD normal = BuildNormalMatrix(cotan->matrix, std::vector<int32_t>{0, 4000});
+  const Eigen::MatrixXd x = Eigen::MatrixXd(grid.frame_d(0));
+  for (const auto ordering :
+       {SolverOrdering::kAuto, SolverOrdering::kAmd, SolverOrdering::kMetis}) {
+    SolverOptions options;
+    options.ordering = ordering;
+    const auto solver = SparseSpdSolver::Factor(normal, options);
+    ASSERT_TRUE(solver.ok()) << solver.status().ToString();
+    const auto solved = solver->Solve(normal * x);
+    ASSERT_TRUE(solved.ok());
+    EXPECT_LE((*solved - x).cwiseAbs().maxCoeff(), 1e-8);
+  }
+}
+
 TEST(AnchoredLaplacianSolver, RequiresAnAnchorInEveryComponent) {
   const MeshSequence mesh = testing::TwoTetrahedraAndIsolatedVertex();
   const MeshTopology topo = BuildTopology(mesh.triangles(), mesh.vertex_count());
