@@ -63,6 +63,8 @@ class Decoder {
   Status Open(std::span<const uint8_t> stream);
   const StreamInfo& info() const { return info_; }
   int segment_count() const { return static_cast<int>(info_.segments.size()); }
+  const Triangles& triangles() const { return triangles_; }
+  // Thread-safe: segments may be decoded concurrently.
   StatusOr<MeshSequence> DecodeSegment(int index) const;
 
  private:

@@ -1,5 +1,7 @@
 #include "dmc/decoder.h"
 
+#include <tbb/parallel_for.h>
+
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -252,13 +254,19 @@ StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream) {
   Decoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Open(stream));
   const StreamInfo& info = decoder.info();
-  MeshSequence sequence(info.vertex_count, Triangles(), info.frame_count);
-  for (int s = 0; s < decoder.segment_count(); ++s) {
-    DMC_ASSIGN_OR_RETURN(MeshSequence part, decoder.DecodeSegment(s));
-    if (s == 0) sequence.mutable_triangles() = part.triangles();
+  MeshSequence sequence(info.vertex_count, decoder.triangles(), info.frame_count);
+  // Segments are independent: decode them in parallel into their own frame ranges.
+  std::vector<Status> statuses(decoder.segment_count());
+  tbb::parallel_for(0, decoder.segment_count(), [&](int s) {
+    StatusOr<MeshSequence> part = decoder.DecodeSegment(s);
+    if (!part.ok()) {
+      statuses[s] = part.status();
+      return;
+    }
     const size_t offset = static_cast<size_t>(info.segments[s].first_frame) * info.vertex_count * 3;
-    std::copy(part.data(), part.data() + part.position_value_count(), sequence.data() + offset);
-  }
+    std::copy(part->data(), part->data() + part->position_value_count(), sequence.data() + offset);
+  });
+  for (const Status& status : statuses) DMC_RETURN_IF_ERROR(status);
   sequence.name = info.name;
   sequence.frame_rate = info.frame_rate;
   return sequence;

@@ -1,5 +1,7 @@
 #include "dmc/encoder.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
@@ -274,15 +276,23 @@ StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
   totals.connectivity += out.size() - before;
 
   const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
-  int first_frame = 0;
+  // Equal-sized segments (differing by at most one frame), encoded in parallel into their own
+  // buffers and concatenated in order: the bytes do not depend on the thread count.
+  std::vector<int> segment_first(segments + 1, 0);
+  for (int s = 0; s < segments; ++s) {
+    segment_first[s + 1] = segment_first[s] + frames / segments + (s < frames % segments ? 1 : 0);
+  }
+  std::vector<ByteWriter> segment_bytes(segments);
+  std::vector<StatusOr<SegmentResult>> segment_results(segments, InternalError("not encoded"));
+  tbb::parallel_for(0, segments, [&](int s) {
+    segment_results[s] = EncodeSegment(
+        sequence, topology, vertex_order, connectivity.vertex_order, options, operator_id, diagonal,
+        residual_step, segment_first[s], segment_first[s + 1] - segment_first[s], segment_bytes[s]);
+  });
   int chunk_count = 2;
   for (int s = 0; s < segments; ++s) {
-    // Equal-sized segments (differing by at most one frame).
-    const int count = frames / segments + (s < frames % segments ? 1 : 0);
-    DMC_ASSIGN_OR_RETURN(
-        SegmentResult segment,
-        EncodeSegment(sequence, topology, vertex_order, connectivity.vertex_order, options,
-                      operator_id, diagonal, residual_step, first_frame, count, out));
+    DMC_ASSIGN_OR_RETURN(SegmentResult segment, std::move(segment_results[s]));
+    out.PutBytes(segment_bytes[s].bytes());
     totals.header += segment.sizes.header;
     totals.mean += segment.sizes.mean;
     totals.basis += segment.sizes.basis;
@@ -294,7 +304,6 @@ StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
       report->anchors = segment.anchors;
     }
     chunk_count += 6;
-    first_frame += count;
   }
   ByteWriter end;
   end.PutVarU(static_cast<uint64_t>(chunk_count));

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <numbers>
@@ -143,6 +144,31 @@ TEST(Codec, SegmentsDecodeIndependently) {
     first += part->frame_count();
   }
   EXPECT_EQ(first, 25);
+}
+
+TEST(Codec, BytesDoNotDependOnTheThreadCount) {
+  const MeshSequence original = WobblingSphere(12, 16, 24);
+  EncoderOptions options = Quick("ddl");
+  options.segment_frames = 8;
+  options.measure = false;
+  auto parallel = Encode(original, options);
+  ASSERT_TRUE(parallel.ok());
+  std::vector<uint8_t> serial;
+  {
+    tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+    auto bytes = Encode(original, options);
+    ASSERT_TRUE(bytes.ok());
+    serial = *bytes;
+    auto decoded_serial = Decode(serial);
+    auto decoded_parallel = Decode(*parallel);
+    ASSERT_TRUE(decoded_serial.ok() && decoded_parallel.ok());
+  }
+  EXPECT_EQ(serial, *parallel);
+  auto a = Decode(serial);
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  auto b = Decode(serial);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_TRUE(std::equal(a->data(), a->data() + a->position_value_count(), b->data()));
 }
 
 TEST(Codec, SingleFrameSequence) {
