@@ -1,0 +1,937 @@
+// dmc_conformance_generate: writes the conformance vectors of the current format version.
+//
+//   dmc_conformance_generate --out DIR [--check]
+//
+// Valid vectors are encoded from built-in synthetic animations (dmc::Synthesize) and a few
+// hand-made meshes with the public encoder, so the same build always writes the same bytes.
+// Invalid vectors are edits of small valid streams, each made to trip exactly one rule of the
+// spec; the generator decodes every invalid vector and refuses to write a manifest whose expected
+// error differs from what the reference decoder reports (so the manifests never lie).
+//
+// Vectors of an older format version already in DIR/valid are kept: a valid vector whose manifest
+// names another version is renamed <name>-v<major>.<minor> before a new vector of that name is
+// written, because a decoder must still decode it. Invalid vectors are rewritten (what is
+// invalid can change with the version). --check runs the runner's checks over DIR afterwards.
+#include <xxhash.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "bitstream/format.h"
+#include "bitstream/syntax.h"
+#include "dmc/decoder.h"
+#include "dmc/encoder.h"
+#include "dmc/synth.h"
+#include "encoder/range_encoder.h"
+#include "encoder/syntax_writer.h"
+#include "entropy/byte_io.h"
+#include "kit/vector_kit.h"
+
+namespace dmc::conformance {
+namespace {
+
+using Json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+std::string VersionText() {
+  return std::to_string(format::kVersionMajor) + "." + std::to_string(format::kVersionMinor);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sources
+
+struct Source {
+  Json description;  // recorded in the manifest so the vector can be understood and remade
+  std::function<StatusOr<MeshSequence>()> make;
+};
+
+Source Synth(const std::string& name, int resolution, int frames, uint64_t seed = 1) {
+  Json description = {
+      {"synth", name}, {"resolution", resolution}, {"frames", frames}, {"seed", seed}};
+  return {description, [=]() -> StatusOr<MeshSequence> {
+            SynthOptions options;
+            options.resolution = resolution;
+            options.frames = frames;
+            options.seed = seed;
+            return Synthesize(name, options);
+          }};
+}
+
+// Frame 0 of a synthetic animation repeated: no motion at all, so automatic rank selection keeps
+// no basis vector (a mean-only segment).
+Source StaticSynth(const std::string& name, int resolution, int frames) {
+  Json description = {{"synth", name},
+                      {"resolution", resolution},
+                      {"frames", frames},
+                      {"seed", 1},
+                      {"static", true}};
+  return {description, [=]() -> StatusOr<MeshSequence> {
+            SynthOptions options;
+            options.resolution = resolution;
+            options.frames = 1;
+            DMC_ASSIGN_OR_RETURN(MeshSequence first, Synthesize(name, options));
+            MeshSequence sequence(first.vertex_count(), first.triangles(), frames);
+            for (int f = 0; f < frames; ++f) sequence.frame(f) = first.frame(0);
+            sequence.name = name + "-static";
+            sequence.frame_rate = first.frame_rate;
+            return sequence;
+          }};
+}
+
+// An n×n grid waving in z plus one isolated vertex (referenced by no triangle): Draco cannot code
+// an isolated vertex, so the encoder falls back to the indexed connectivity method, and the
+// isolated vertex forms its own connected component (which needs its own anchor).
+Source GridWithIsolatedVertex(int n, int frames) {
+  Json description = {{"mesh", "grid with one isolated vertex"}, {"grid", n}, {"frames", frames}};
+  return {description, [=]() -> StatusOr<MeshSequence> {
+            Triangles triangles(2 * (n - 1) * (n - 1), 3);
+            int t = 0;
+            for (int y = 0; y + 1 < n; ++y) {
+              for (int x = 0; x + 1 < n; ++x) {
+                const int v = y * n + x;
+                triangles.row(t++) << v, v + 1, v + n + 1;
+                triangles.row(t++) << v, v + n + 1, v + n;
+              }
+            }
+            const int isolated = n * n;
+            MeshSequence sequence(n * n + 1, triangles, frames);
+            for (int f = 0; f < frames; ++f) {
+              const double phase = 2.0 * std::numbers::pi * f / 8.0;
+              for (int v = 0; v < n * n; ++v) {
+                const double x = static_cast<double>(v % n) / (n - 1);
+                const double y = static_cast<double>(v / n) / (n - 1);
+                const double z = 0.08 * std::sin(2.0 * std::numbers::pi * x + phase) *
+                                 std::cos(std::numbers::pi * y);
+                sequence.frame(f).row(v) << static_cast<float>(x), static_cast<float>(y),
+                    static_cast<float>(z);
+              }
+              sequence.frame(f).row(isolated) << 0.5f, 0.5f,
+                  static_cast<float>(0.3 + 0.02 * std::sin(phase));
+            }
+            sequence.name = "grid-isolated";
+            sequence.frame_rate = 25.0;
+            return sequence;
+          }};
+}
+
+Json OptionsJson(const EncoderOptions& o) {
+  return {{"operator", o.operator_name},
+          {"rank", o.rank},
+          {"rank_threshold", o.rank_threshold},
+          {"basis_bits", o.basis_bits},
+          {"residual_bits", o.residual_bits},
+          {"anchors", o.anchors},
+          {"anchor_step_ratio", o.anchor_step_ratio},
+          {"segment_frames", o.segment_frames},
+          {"weight_bits", o.weight_bits},
+          {"ddl_regularization", o.ddl_regularization},
+          {"weight_prediction_uniform", o.weight_prediction_uniform},
+          {"allow_reorder", o.allow_reorder}};
+}
+
+EncoderOptions Options(const std::string& operator_name) {
+  EncoderOptions options;
+  options.operator_name = operator_name;
+  options.measure = false;
+  return options;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Valid vectors
+
+struct ValidVector {
+  std::string name;
+  std::string description;
+  Source source;
+  EncoderOptions options;
+  int expected_connectivity_method;  // what the vector is meant to cover
+  int minimum_segments = 1;
+};
+
+std::vector<ValidVector> ValidVectors() {
+  std::vector<ValidVector> vectors;
+  auto add = [&](std::string name, std::string description, Source source, EncoderOptions options,
+                 ConnectivityMethod method, int minimum_segments = 1) {
+    vectors.push_back({std::move(name), std::move(description), std::move(source), options,
+                       static_cast<int>(method), minimum_segments});
+  };
+  add("twist_ddl", "closed genus-0 tube, symmetric DDL operator, default parameters",
+      Synth("twist", 300, 10), Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
+  add("cloth_tutte_boundary", "open sheet with one boundary loop, Tutte operator",
+      Synth("cloth", 250, 8), Options("tutte"), ConnectivityMethod::kDracoWithVertexOrder);
+  add("walker_kirchhoff_components", "six closed components, Kirchhoff operator",
+      Synth("walker", 300, 6), Options("kirchhoff"), ConnectivityMethod::kDracoWithVertexOrder);
+  add("blob_single_frame", "a single frame (rank at most 3), DDL", Synth("blob", 200, 1),
+      Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
+  {
+    EncoderOptions options = Options("ddl");
+    options.segment_frames = 5;
+    add("twist_four_segments", "16 frames in four segments of 4 frames, DDL",
+        Synth("twist", 200, 16, 3), options, ConnectivityMethod::kDracoWithVertexOrder, 4);
+  }
+  {
+    EncoderOptions options = Options("ddl");
+    options.allow_reorder = true;
+    add("cloth_reordered_ddl", "codec vertex order (--allow-reorder), boundary, DDL",
+        Synth("cloth", 200, 6, 2), options, ConnectivityMethod::kDracoReordered);
+  }
+  {
+    EncoderOptions options = Options("tutte");
+    options.allow_reorder = true;
+    options.segment_frames = 4;
+    add("walker_reordered_tutte_segments",
+        "codec vertex order with six components, two segments, Tutte", Synth("walker", 300, 8, 4),
+        options, ConnectivityMethod::kDracoReordered, 2);
+  }
+  add("grid_isolated_indexed",
+      "indexed connectivity (an isolated vertex Draco cannot code), two components, DDL",
+      GridWithIsolatedVertex(10, 6), Options("ddl"), ConnectivityMethod::kIndexed);
+  add("static_rank_zero", "no motion: rank 0, mean trajectory only, DDL weights all predicted",
+      StaticSynth("twist", 150, 4), Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
+  {
+    EncoderOptions options = Options("ddl");
+    options.basis_bits = 2;
+    options.residual_bits = 1;
+    options.weight_bits = 2;
+    options.anchors = 1;
+    add("extreme_coarse",
+        "coarsest quantisers: 2 basis bits, residual step = diagonal / 2, "
+        "2 weight bits, one anchor",
+        Synth("blob", 150, 5), options, ConnectivityMethod::kDracoWithVertexOrder);
+  }
+  {
+    EncoderOptions options = Options("ddl");
+    options.basis_bits = 16;
+    options.residual_bits = 24;
+    options.weight_bits = 20;
+    options.rank = 12;
+    options.anchors = 40;
+    options.anchor_step_ratio = 0.25;
+    options.weight_prediction_uniform = true;
+    add("extreme_fine",
+        "finest quantisers: 16 basis bits, 2^-24 residual step, 20 weight bits, "
+        "full rank 12, 40 anchors, uniform weight prediction",
+        Synth("twist", 150, 4, 5), options, ConnectivityMethod::kDracoWithVertexOrder);
+  }
+  return vectors;
+}
+
+Status WriteJson(const fs::path& path, const Json& json) {
+  const std::string text = json.dump(1) + "\n";
+  return WriteBytes(
+      path, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+}
+
+// Renames an existing valid vector of another format version out of the way (see the header).
+Status KeepOlderVersion(const fs::path& directory, const std::string& name) {
+  const fs::path manifest_path = directory / (name + ".json");
+  if (!fs::exists(manifest_path)) return Status::Ok();
+  DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, ReadBytes(manifest_path));
+  const Json manifest = Json::parse(bytes.begin(), bytes.end(), nullptr, false);
+  if (manifest.is_discarded() || !manifest.contains("format_version")) return Status::Ok();
+  const std::string version = manifest["format_version"].get<std::string>();
+  if (version == VersionText()) return Status::Ok();
+  const std::string kept = name + "-v" + version;
+  Json renamed = manifest;
+  renamed["stream"] = kept + ".dmc";
+  renamed["positions"]["file"] = kept + ".ref.zst";
+  std::error_code error;
+  fs::rename(directory / (name + ".dmc"), directory / (kept + ".dmc"), error);
+  if (!error) fs::rename(directory / (name + ".ref.zst"), directory / (kept + ".ref.zst"), error);
+  if (error)
+    return IoError("cannot keep " + name + " of version " + version + ": " + error.message());
+  DMC_RETURN_IF_ERROR(WriteJson(directory / (kept + ".json"), renamed));
+  fs::remove(manifest_path, error);
+  std::printf("kept %s (format %s) as %s\n", name.c_str(), version.c_str(), kept.c_str());
+  return Status::Ok();
+}
+
+Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
+  DMC_ASSIGN_OR_RETURN(const MeshSequence sequence, vector.source.make());
+  DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream, Encode(sequence, vector.options));
+  DMC_ASSIGN_OR_RETURN(const MeshSequence decoded, Decode(stream));
+  DMC_ASSIGN_OR_RETURN(const StreamInfo info, ReadStreamInfo(stream));
+  DMC_ASSIGN_OR_RETURN(const SyntaxDigests digests, ComputeSyntaxDigests(stream));
+  if (digests.connectivity_method != vector.expected_connectivity_method) {
+    return InternalError(vector.name + ": connectivity method " +
+                         std::to_string(digests.connectivity_method) + ", meant to cover " +
+                         std::to_string(vector.expected_connectivity_method));
+  }
+  if (static_cast<int>(info.segments.size()) < vector.minimum_segments) {
+    return InternalError(vector.name + ": " + std::to_string(info.segments.size()) +
+                         " segment(s), meant to cover " + std::to_string(vector.minimum_segments));
+  }
+  DMC_RETURN_IF_ERROR(KeepOlderVersion(directory, vector.name));
+
+  Json segments = Json::array();
+  for (size_t s = 0; s < info.segments.size(); ++s) {
+    const SegmentInfo& segment = info.segments[s];
+    segments.push_back({{"first_frame", segment.first_frame},
+                        {"frame_count", segment.frame_count},
+                        {"rank", segment.rank},
+                        {"operator_id", segment.operator_id},
+                        {"operator", segment.operator_name},
+                        {"anchor_count", segment.anchor_count},
+                        {"syntax_digest", HashHex(digests.segments[s])}});
+  }
+  Json frame_hashes = Json::array();
+  for (int f = 0; f < decoded.frame_count(); ++f)
+    frame_hashes.push_back(HashHex(FrameHash(decoded, f)));
+  const std::string positions_file = vector.name + ".ref.zst";
+  const Json manifest = {
+      {"kind", "valid"},
+      {"format_version", VersionText()},
+      {"generated", true},
+      {"description", vector.description},
+      {"stream", vector.name + ".dmc"},
+      {"stream_bytes", stream.size()},
+      {"stream_xxh64", HashHex(XXH64(stream.data(), stream.size(), 0))},
+      {"source", vector.source.description},
+      {"encoder_options", OptionsJson(vector.options)},
+      {"vertex_count", decoded.vertex_count()},
+      {"triangle_count", decoded.triangle_count()},
+      {"frame_count", decoded.frame_count()},
+      {"reordered", info.reordered},
+      {"connectivity_method", digests.connectivity_method},
+      {"connectivity_digest", HashHex(digests.connectivity)},
+      {"triangles_xxh64",
+       HashHex(XXH64(decoded.triangles().data(),
+                     sizeof(int32_t) * 3 * static_cast<size_t>(decoded.triangle_count()), 0))},
+      {"segments", segments},
+      {"positions",
+       {{"file", positions_file},
+        {"diagonal", SequenceDiagonal(decoded)},
+        {"tolerance", "|x - r| <= 2^-20 * diagonal + 2^-22 * |r|"},
+        {"frame_xxh64", frame_hashes}}}};
+  DMC_RETURN_IF_ERROR(WriteBytes(directory / (vector.name + ".dmc"), stream));
+  DMC_RETURN_IF_ERROR(WriteBytes(directory / positions_file, CompressPositions(decoded)));
+  DMC_RETURN_IF_ERROR(WriteJson(directory / (vector.name + ".json"), manifest));
+  std::printf("valid   %-34s %6zu bytes  V %4d  F %2d  segments %zu  method %d\n",
+              vector.name.c_str(), stream.size(), decoded.vertex_count(), decoded.frame_count(),
+              info.segments.size(), digests.connectivity_method);
+  return Status::Ok();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Invalid vectors
+
+struct InvalidVector {
+  std::string name;
+  std::string description;
+  std::string derived_from;
+  std::vector<uint8_t> stream;
+  ErrorCode error;       // what Decode must report
+  ErrorCode info_error;  // what ReadStreamInfo must report (kOk: it succeeds)
+};
+
+// A valid base stream with its parsed syntax, to derive invalid vectors from.
+struct Base {
+  std::string name;
+  std::vector<uint8_t> stream;
+  ParsedStream parsed;
+};
+
+StatusOr<Base> MakeBase(const std::string& name, Source source, EncoderOptions options) {
+  Base base;
+  base.name = name;
+  DMC_ASSIGN_OR_RETURN(const MeshSequence sequence, source.make());
+  DMC_ASSIGN_OR_RETURN(base.stream, Encode(sequence, options));
+  DMC_ASSIGN_OR_RETURN(base.parsed, ParseStream(base.stream));
+  return base;
+}
+
+// Chunk indices of a one-segment stream.
+constexpr size_t kSequenceHeaderChunk = 0, kConnectivityChunk = 1, kSegmentHeaderChunk = 2,
+                 kMeanChunk = 3, kBasisChunk = 4, kOperatorChunk = 5, kAnchorsChunk = 6,
+                 kResidualsChunk = 7, kEndChunk = 8;
+
+// Byte offset where each chunk starts, plus the stream size at the end.
+std::vector<size_t> ChunkStarts(const Framed& framed) {
+  std::vector<size_t> starts;
+  size_t offset = framed.preamble.size();
+  for (const Chunk& chunk : framed.chunks) {
+    starts.push_back(offset);
+    ByteWriter varint;
+    varint.PutVarU(chunk.payload.size());
+    offset += 1 + varint.size() + chunk.payload.size() + 4;
+  }
+  starts.push_back(offset);
+  return starts;
+}
+
+std::vector<uint8_t> Edited(const Base& base, const std::function<void(Framed&)>& edit,
+                            bool recompute_checksums = true) {
+  Framed framed = base.parsed.framed;
+  edit(framed);
+  return JoinFramed(framed, recompute_checksums);
+}
+
+// A sequence header payload with raw (possibly out-of-range) field values.
+std::vector<uint8_t> RawSequenceHeader(uint64_t vertices, uint64_t triangles, uint64_t frames,
+                                       uint64_t segments, double frame_rate, uint8_t flags,
+                                       const std::string& name) {
+  ByteWriter w;
+  w.PutVarU(vertices);
+  w.PutVarU(triangles);
+  w.PutVarU(frames);
+  w.PutVarU(segments);
+  w.PutF64(frame_rate);
+  w.PutU8(flags);
+  w.PutString(name);
+  return w.Take();
+}
+
+std::vector<uint8_t> SegmentHeaderWith(const Base& base,
+                                       const std::function<void(format::SegmentHeader&)>& edit) {
+  format::SegmentHeader header = base.parsed.segments[0].header;
+  edit(header);
+  return syntax::WriteSegmentHeader(header);
+}
+
+// An anchor chunk payload: ascending indices as gaps, then the quantised values (spec §8.6).
+std::vector<uint8_t> AnchorPayload(const std::vector<int64_t>& indices,
+                                   const std::vector<std::vector<int64_t>>& values) {
+  RangeEncoder encoder;
+  auto contexts = std::make_unique<format::AnchorContexts>();
+  int64_t previous = -1;
+  for (const int64_t index : indices) {
+    encoder.EncodeUnsigned(contexts->index_gap, static_cast<uint64_t>(index - previous - 1));
+    previous = index;
+  }
+  for (const auto& row : values) {
+    for (size_t k = 0; k < row.size(); ++k) {
+      encoder.EncodeSigned(contexts->value[std::min<size_t>(k, format::kBasisColumnGroups - 1)],
+                           row[k]);
+    }
+  }
+  return encoder.Finish();
+}
+
+// The base's anchors and quantised anchor values (segment 0).
+void BaseAnchors(const Base& base, std::vector<int64_t>* indices,
+                 std::vector<std::vector<int64_t>>* values) {
+  const SegmentSyntax& syntax = base.parsed.segments[0];
+  for (size_t a = 0; a < syntax.anchors.size(); ++a) {
+    indices->push_back(syntax.anchors[a]);
+    std::vector<int64_t> row;
+    for (Eigen::Index k = 0; k < syntax.anchor_values.cols(); ++k) {
+      row.push_back(std::llround(syntax.anchor_values(static_cast<Eigen::Index>(a), k) /
+                                 syntax.header.anchor_step));
+    }
+    values->push_back(row);
+  }
+}
+
+std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, const Base& walker) {
+  std::vector<InvalidVector> out;
+  const ErrorCode kCorrupt = ErrorCode::kCorruptStream;
+  const ErrorCode kTruncated = ErrorCode::kTruncatedStream;
+  const ErrorCode kUnsupported = ErrorCode::kUnsupported;
+  const ErrorCode kOk = ErrorCode::kOk;
+  auto add = [&](std::string name, std::string description, const Base& base,
+                 std::vector<uint8_t> stream, ErrorCode error, ErrorCode info_error) {
+    out.push_back(
+        {std::move(name), std::move(description), base.name, std::move(stream), error, info_error});
+  };
+  const std::vector<uint8_t>& s = ddl.stream;
+  const format::SequenceHeader& h = ddl.parsed.header;
+
+  // --- Truncation: the empty stream, inside the preamble, at every chunk boundary, inside
+  // payloads and checksums. Every proper prefix of a stream is truncated-stream.
+  add("truncated_empty", "zero bytes", ddl, {}, kTruncated, kTruncated);
+  add("truncated_in_magic", "3 bytes of the magic", ddl, {s.begin(), s.begin() + 3}, kTruncated,
+      kTruncated);
+  add("truncated_in_preamble", "magic and version, no reserved byte", ddl,
+      {s.begin(), s.begin() + 6}, kTruncated, kTruncated);
+  const std::vector<size_t> starts = ChunkStarts(ddl.parsed.framed);
+  const char* chunk_names[] = {"sequence_header", "connectivity", "segment_header", "mean", "basis",
+                               "operator",        "anchors",      "residuals",      "end"};
+  for (size_t c = 0; c < ddl.parsed.framed.chunks.size(); ++c) {
+    add(std::string("truncated_before_") + chunk_names[c],
+        std::string("stream cut at the chunk boundary before the ") + chunk_names[c] + " chunk",
+        ddl, {s.begin(), s.begin() + static_cast<std::ptrdiff_t>(starts[c])}, kTruncated,
+        kTruncated);
+  }
+  for (const size_t c : {kConnectivityChunk, kResidualsChunk}) {
+    const size_t middle = (starts[c] + starts[c + 1]) / 2;
+    add(std::string("truncated_inside_") + chunk_names[c],
+        std::string("stream cut in the middle of the ") + chunk_names[c] + " chunk", ddl,
+        {s.begin(), s.begin() + static_cast<std::ptrdiff_t>(middle)}, kTruncated, kTruncated);
+  }
+  add("truncated_in_last_checksum", "the end chunk's checksum lacks its last byte", ddl,
+      {s.begin(), s.end() - 1}, kTruncated, kTruncated);
+
+  // --- Preamble.
+  {
+    std::vector<uint8_t> bad = s;
+    bad[0] = 'X';
+    add("bad_magic", "first magic byte is 'X'", ddl, bad, kCorrupt, kCorrupt);
+    bad = s;
+    bad[4] = 2;
+    add("version_2_0", "major version 2", ddl, bad, kUnsupported, kUnsupported);
+    bad = s;
+    bad[4] = 0;
+    add("version_0_0", "major version 0", ddl, bad, kUnsupported, kUnsupported);
+    bad = s;
+    bad[5] = static_cast<uint8_t>(format::kVersionMinor + 1);
+    add("version_newer_minor", "minor version one above what this format defines", ddl, bad,
+        kUnsupported, kUnsupported);
+    bad = s;
+    bad[6] = 0x01;
+    add("reserved_byte_set", "reserved preamble byte is 1", ddl, bad, kCorrupt, kCorrupt);
+  }
+
+  // --- Framing and checksums.
+  add("checksum_mismatch_residuals", "one residual payload bit flipped, checksum kept", ddl,
+      Edited(
+          ddl, [](Framed& f) { f.chunks[kResidualsChunk].payload.back() ^= 0x10; }, false),
+      kCorrupt, kCorrupt);
+  add("checksum_mismatch_header", "sequence header checksum off by one", ddl,
+      Edited(
+          ddl, [](Framed& f) { f.chunks[kSequenceHeaderChunk].checksum += 1; }, false),
+      kCorrupt, kCorrupt);
+  add("checksum_of_other_type",
+      "mean chunk relabelled as basis with its old checksum (the type seeds the checksum)", ddl,
+      Edited(
+          ddl,
+          [](Framed& f) { f.chunks[kMeanChunk].type = static_cast<uint8_t>(ChunkType::kBasis); },
+          false),
+      kCorrupt, kCorrupt);
+  add("chunk_order_swapped", "mean and basis chunks swapped (each with a valid checksum)", ddl,
+      Edited(ddl, [](Framed& f) { std::swap(f.chunks[kMeanChunk], f.chunks[kBasisChunk]); }),
+      kCorrupt, kCorrupt);
+  add("chunk_type_unknown", "operator chunk carries the unassigned type 9", ddl,
+      Edited(ddl, [](Framed& f) { f.chunks[kOperatorChunk].type = 9; }), kCorrupt, kCorrupt);
+  add("chunk_type_zero", "operator chunk carries the reserved type 0", ddl,
+      Edited(ddl, [](Framed& f) { f.chunks[kOperatorChunk].type = 0; }), kCorrupt, kCorrupt);
+  add("end_chunk_missing", "the end chunk is absent", ddl,
+      {s.begin(), s.begin() + static_cast<std::ptrdiff_t>(starts[kEndChunk])}, kTruncated,
+      kTruncated);
+  add("end_count_wrong", "end chunk counts 7 chunks before it instead of 8", ddl,
+      Edited(ddl, [](Framed& f) { f.chunks[kEndChunk].payload = {7}; }), kCorrupt, kCorrupt);
+  add("end_chunk_trailing_payload", "end chunk payload has a byte after its varint", ddl,
+      Edited(ddl, [](Framed& f) { f.chunks[kEndChunk].payload.push_back(0); }), kCorrupt, kCorrupt);
+  add("trailing_bytes", "one zero byte after the end chunk", ddl,
+      Edited(ddl, [](Framed& f) { f.trailing = {0}; }), kCorrupt, kCorrupt);
+  add("segment_chunks_repeated", "the segment's six chunks appear twice, the header says one", ddl,
+      Edited(ddl,
+             [](Framed& f) {
+               std::vector<Chunk> segment(f.chunks.begin() + kSegmentHeaderChunk,
+                                          f.chunks.begin() + kEndChunk);
+               f.chunks.insert(f.chunks.begin() + kEndChunk, segment.begin(), segment.end());
+               f.chunks.back().payload = {14};
+             }),
+      kCorrupt, kCorrupt);
+  {
+    // Chunk size as an 11-byte varint: longer than 64 bits.
+    std::vector<uint8_t> bad(s.begin(), s.begin() + 7);
+    bad.push_back(static_cast<uint8_t>(ChunkType::kSequenceHeader));
+    for (int i = 0; i < 10; ++i) bad.push_back(0xFF);
+    bad.push_back(0x01);
+    add("chunk_size_varint_too_long", "first chunk size is an 11-byte varint", ddl, bad, kCorrupt,
+        kCorrupt);
+    bad.assign(s.begin(), s.begin() + 7);
+    bad.push_back(static_cast<uint8_t>(ChunkType::kSequenceHeader));
+    for (int i = 0; i < 8; ++i) bad.push_back(0xFF);
+    bad.push_back(0x01);  // 2^63 - 1 + ...: far more than the stream holds
+    add("chunk_size_past_end", "first chunk declares about 2^57 payload bytes", ddl, bad,
+        kTruncated, kTruncated);
+  }
+
+  // --- Sequence header.
+  auto header_vector = [&](std::string name, std::string description, std::vector<uint8_t> payload,
+                           ErrorCode error) {
+    add(std::move(name), std::move(description), ddl,
+        Edited(ddl, [&](Framed& f) { f.chunks[kSequenceHeaderChunk].payload = payload; }), error,
+        error);
+  };
+  const uint64_t V = h.vertex_count, T = h.triangle_count, F = h.frame_count;
+  header_vector("reserved_flag_bits", "sequence flags 0x81: a reserved bit set",
+                RawSequenceHeader(V, T, F, 1, h.frame_rate, 0x81, h.name), kCorrupt);
+  header_vector("frame_count_zero", "frame count 0",
+                RawSequenceHeader(V, T, 0, 1, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("frame_count_2pow32", "frame count 2^32",
+                RawSequenceHeader(V, T, uint64_t{1} << 32, 1, h.frame_rate, h.flags, h.name),
+                kCorrupt);
+  header_vector("vertex_count_zero", "vertex count 0",
+                RawSequenceHeader(0, T, F, 1, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("vertex_count_above_limit", "vertex count 2^26 + 1",
+                RawSequenceHeader((uint64_t{1} << 26) + 1, T, F, 1, h.frame_rate, h.flags, h.name),
+                kCorrupt);
+  header_vector("triangle_count_above_limit", "triangle count 2^27 + 1",
+                RawSequenceHeader(V, (uint64_t{1} << 27) + 1, F, 1, h.frame_rate, h.flags, h.name),
+                kCorrupt);
+  header_vector("vertex_count_beyond_connectivity",
+                "vertex count one more than the connectivity holds",
+                RawSequenceHeader(V + 1, T, F, 1, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("triangle_count_beyond_connectivity",
+                "triangle count one more than the connectivity holds",
+                RawSequenceHeader(V, T + 1, F, 1, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("segment_count_zero", "segment count 0",
+                RawSequenceHeader(V, T, F, 0, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("segment_count_above_frames", "more segments than frames",
+                RawSequenceHeader(V, T, F, F + 1, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("segment_count_without_chunks", "two segments declared, chunks for one",
+                RawSequenceHeader(V, T, F, 2, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector("frame_count_beyond_segments", "one frame more than the segments cover",
+                RawSequenceHeader(V, T, F + 1, 1, h.frame_rate, h.flags, h.name), kCorrupt);
+  header_vector(
+      "output_above_16gib", "2^26 vertices × 2^20 frames: more than 16 GiB of decoded positions",
+      RawSequenceHeader(uint64_t{1} << 26, T, uint64_t{1} << 20, 1, h.frame_rate, h.flags, h.name),
+      kUnsupported);
+  header_vector("frame_rate_nan", "frame rate is NaN",
+                RawSequenceHeader(V, T, F, 1, std::nan(""), h.flags, h.name), kCorrupt);
+  header_vector("frame_rate_negative", "frame rate -25",
+                RawSequenceHeader(V, T, F, 1, -25.0, h.flags, h.name), kCorrupt);
+  header_vector("name_too_long", "a 257-byte name",
+                RawSequenceHeader(V, T, F, 1, h.frame_rate, h.flags, std::string(257, 'n')),
+                kCorrupt);
+  {
+    std::vector<uint8_t> payload = RawSequenceHeader(V, T, F, 1, h.frame_rate, h.flags, h.name);
+    payload.push_back(0);
+    header_vector("sequence_header_trailing_byte", "sequence header payload one byte too long",
+                  payload, kCorrupt);
+    payload.resize(payload.size() - 2);
+    header_vector("sequence_header_short", "sequence header payload one byte too short", payload,
+                  kTruncated);
+  }
+
+  // --- Connectivity.
+  auto connectivity_vector = [&](std::string name, std::string description,
+                                 const std::function<void(std::vector<uint8_t>&)>& edit,
+                                 ErrorCode error) {
+    add(std::move(name), std::move(description), ddl,
+        Edited(ddl, [&](Framed& f) { edit(f.chunks[kConnectivityChunk].payload); }), error, error);
+  };
+  connectivity_vector(
+      "connectivity_method_unknown", "connectivity method 9",
+      [](std::vector<uint8_t>& p) { p[0] = 9; }, kUnsupported);
+  connectivity_vector(
+      "connectivity_empty", "empty connectivity payload",
+      [](std::vector<uint8_t>& p) { p.clear(); }, kTruncated);
+  // Method 1 payload: method, varint Draco size, Draco buffer "DRACO"...
+  const size_t draco_start = [&] {
+    ByteReader reader(std::span<const uint8_t>(ddl.parsed.framed.chunks[1].payload).subspan(1));
+    uint64_t size = 0;
+    (void)reader.GetVarU(&size, "Draco buffer size");
+    return 1 + reader.position();
+  }();
+  connectivity_vector(
+      "draco_magic_damaged", "Draco buffer starts with 'XRACO'",
+      [&](std::vector<uint8_t>& p) { p[draco_start] = 'X'; }, kCorrupt);
+  connectivity_vector(
+      "draco_version_2_1", "Draco bitstream version 2.1 instead of 2.2",
+      [&](std::vector<uint8_t>& p) { p[draco_start + 6] = 1; }, kCorrupt);
+  connectivity_vector(
+      "draco_method_sequential", "Draco method 0 (sequential) instead of 1",
+      [&](std::vector<uint8_t>& p) { p[draco_start + 8] = 0; }, kCorrupt);
+  connectivity_vector(
+      "draco_traversal_unknown", "Draco edgebreaker traversal 1 (predictive)",
+      [&](std::vector<uint8_t>& p) { p[draco_start + 11] = 1; }, kCorrupt);
+  connectivity_vector(
+      "draco_size_past_payload", "Draco buffer size larger than the payload",
+      [&](std::vector<uint8_t>& p) { p.resize(draco_start + 20); }, kTruncated);
+  connectivity_vector(
+      "label_model_unknown", "vertex label model byte 4",
+      [&](std::vector<uint8_t>& p) {
+        ByteReader reader(std::span<const uint8_t>(p).subspan(1));
+        uint64_t size = 0;
+        (void)reader.GetVarU(&size, "Draco buffer size");
+        p[1 + reader.position() + size] = 4;
+      },
+      kCorrupt);
+  connectivity_vector(
+      "labels_truncated", "vertex labels cut to 5 bytes",
+      [&](std::vector<uint8_t>& p) {
+        ByteReader reader(std::span<const uint8_t>(p).subspan(1));
+        uint64_t size = 0;
+        (void)reader.GetVarU(&size, "Draco buffer size");
+        p.resize(1 + reader.position() + size + 1 + 5);
+      },
+      kTruncated);
+
+  // --- Segment header.
+  auto segment_vector = [&](std::string name, std::string description,
+                            const std::function<void(format::SegmentHeader&)>& edit,
+                            ErrorCode error, const Base& base) {
+    const std::vector<uint8_t> payload = SegmentHeaderWith(base, edit);
+    add(std::move(name), std::move(description), base,
+        Edited(base, [&](Framed& f) { f.chunks[kSegmentHeaderChunk].payload = payload; }), error,
+        error);
+  };
+  segment_vector(
+      "operator_id_unknown", "operator ID 99", [](format::SegmentHeader& g) { g.operator_id = 99; },
+      kUnsupported, ddl);
+  segment_vector(
+      "operator_id_zero", "operator ID 0 (reserved)",
+      [](format::SegmentHeader& g) { g.operator_id = 0; }, kUnsupported, ddl);
+  segment_vector(
+      "operator_id_cotan", "operator ID 3 (cotan): a registry operator, not a 1.0 codec one",
+      [](format::SegmentHeader& g) { g.operator_id = 3; }, kUnsupported, ddl);
+  segment_vector(
+      "segment_first_frame_wrong", "first segment starts at frame 1",
+      [](format::SegmentHeader& g) { g.first_frame = 1; }, kCorrupt, ddl);
+  segment_vector(
+      "segment_frame_count_zero", "segment of 0 frames",
+      [](format::SegmentHeader& g) { g.frame_count = 0; }, kCorrupt, ddl);
+  segment_vector(
+      "segment_frames_beyond_sequence", "segment longer than the sequence",
+      [&](format::SegmentHeader& g) { g.frame_count = h.frame_count + 1; }, kCorrupt, ddl);
+  segment_vector(
+      "rank_above_3f", "rank 3F + 1",
+      [&](format::SegmentHeader& g) { g.rank = 3 * g.frame_count + 1; }, kCorrupt, ddl);
+  segment_vector(
+      "basis_bits_17", "17 basis bits", [](format::SegmentHeader& g) { g.basis_bits = 17; },
+      kCorrupt, ddl);
+  segment_vector(
+      "basis_bits_1", "1 basis bit", [](format::SegmentHeader& g) { g.basis_bits = 1; }, kCorrupt,
+      ddl);
+  segment_vector(
+      "weight_bits_21", "21 weight bits", [](format::SegmentHeader& g) { g.weight_bits = 21; },
+      kCorrupt, ddl);
+  segment_vector(
+      "weight_prediction_unknown", "weight prediction mode 2",
+      [](format::SegmentHeader& g) { g.weight_prediction = 2; }, kCorrupt, ddl);
+  segment_vector(
+      "anchor_count_zero", "no anchors", [](format::SegmentHeader& g) { g.anchor_count = 0; },
+      kCorrupt, ddl);
+  segment_vector(
+      "anchor_count_above_vertices", "more anchors than vertices",
+      [&](format::SegmentHeader& g) { g.anchor_count = h.vertex_count + 1; }, kCorrupt, ddl);
+  segment_vector(
+      "residual_step_nan", "residual step NaN",
+      [](format::SegmentHeader& g) { g.residual_step = std::nan(""); }, kCorrupt, ddl);
+  segment_vector(
+      "mean_step_negative", "mean step -1", [](format::SegmentHeader& g) { g.mean_step = -1.0; },
+      kCorrupt, ddl);
+  segment_vector(
+      "anchor_step_zero", "anchor step 0", [](format::SegmentHeader& g) { g.anchor_step = 0.0; },
+      kCorrupt, ddl);
+  segment_vector(
+      "anchor_weight_infinite", "anchor weight +inf",
+      [](format::SegmentHeader& g) { g.anchor_weight = HUGE_VAL; }, kCorrupt, ddl);
+  {
+    std::vector<uint8_t> payload = syntax::WriteSegmentHeader(ddl.parsed.segments[0].header);
+    payload.push_back(0);
+    add("segment_header_trailing_byte", "segment header payload one byte too long", ddl,
+        Edited(ddl, [&](Framed& f) { f.chunks[kSegmentHeaderChunk].payload = payload; }), kCorrupt,
+        kCorrupt);
+  }
+
+  // --- Range-coded payloads (the container is intact: ReadStreamInfo succeeds).
+  auto payload_vector = [&](std::string name, std::string description, const Base& base,
+                            size_t chunk, std::vector<uint8_t> payload, ErrorCode error) {
+    add(std::move(name), std::move(description), base,
+        Edited(base, [&](Framed& f) { f.chunks[chunk].payload = payload; }), error, kOk);
+  };
+  payload_vector("mean_payload_short", "mean payload of 2 bytes (a range-coded payload has >= 5)",
+                 ddl, kMeanChunk, {0, 0}, kTruncated);
+  {
+    std::vector<uint8_t> payload = ddl.parsed.framed.chunks[kResidualsChunk].payload;
+    payload[0] = 0x80;
+    payload_vector("range_first_byte_nonzero", "residual payload starts with 0x80", ddl,
+                   kResidualsChunk, payload, kCorrupt);
+    payload.assign(ddl.parsed.framed.chunks[kResidualsChunk].payload.begin(),
+                   ddl.parsed.framed.chunks[kResidualsChunk].payload.begin() + 6);
+    payload_vector("residuals_truncated", "residual payload cut to its first 6 bytes", ddl,
+                   kResidualsChunk, payload, kTruncated);
+  }
+  {
+    RangeEncoder encoder;
+    format::MeanContexts contexts;
+    encoder.EncodeSigned(contexts.first, (int64_t{1} << 52) + 1);
+    payload_vector("mean_value_out_of_range", "first mean sample 2^52 + 1 steps", ddl, kMeanChunk,
+                   encoder.Finish(), kCorrupt);
+  }
+  {
+    // An exp-Golomb prefix of 63 one-bits: longer than any 64-bit value needs.
+    RangeEncoder encoder;
+    IntegerContexts contexts;
+    encoder.EncodeBit(contexts.zero, 0);
+    encoder.EncodeBit(contexts.sign, 0);
+    for (int i = 0; i < IntegerContexts::kUnaryLength; ++i)
+      encoder.EncodeBit(contexts.greater[i], 1);
+    for (int k = 0; k < 63; ++k) {
+      encoder.EncodeBit(contexts.escape[std::min(k, IntegerContexts::kEscapeContexts - 1)], 1);
+    }
+    for (int k = 0; k < 64; ++k) encoder.EncodeBypass(0);
+    payload_vector("escape_code_too_long", "mean value with a 63-bit exp-Golomb prefix", ddl,
+                   kMeanChunk, encoder.Finish(), kCorrupt);
+  }
+  {
+    const int levels = (1 << (ddl.parsed.segments[0].header.basis_bits - 1)) - 1;
+    RangeEncoder encoder;
+    auto contexts = std::make_unique<format::BasisContexts>();
+    encoder.EncodeBit(contexts->second_order[0], 0);
+    encoder.EncodeSigned(contexts->first[0], levels + 1);
+    payload_vector("basis_sample_out_of_range", "first basis sample one level beyond the range",
+                   ddl, kBasisChunk, encoder.Finish(), kCorrupt);
+  }
+  {
+    const std::vector<format::WeightVisit> schedule =
+        format::BuildWeightSchedule(ddl.parsed.topology);
+    RangeEncoder encoder;
+    format::WeightContexts contexts;
+    const int unknown = static_cast<int>(schedule.front().unknown_edges.size());
+    encoder.EncodeSigned(contexts.by_unknown[std::min(unknown, 5) - 2], int64_t{1} << 40);
+    payload_vector("ddl_weight_out_of_range", "first DDL weight residual 2^40 units", ddl,
+                   kOperatorChunk, encoder.Finish(), kCorrupt);
+  }
+  payload_vector("operator_payload_for_tutte", "Tutte segment with a non-empty operator chunk",
+                 tutte, kOperatorChunk, {0, 0, 0, 0, 0}, kCorrupt);
+  {
+    RangeEncoder encoder;
+    auto contexts = std::make_unique<format::ResidualContexts>();
+    encoder.EncodeSigned(contexts->sets[0][0], (int64_t{1} << 40) + 1);
+    payload_vector("residual_out_of_range", "first residual 2^40 + 1 steps", ddl, kResidualsChunk,
+                   encoder.Finish(), kCorrupt);
+  }
+  {
+    std::vector<int64_t> indices;
+    std::vector<std::vector<int64_t>> values;
+    BaseAnchors(ddl, &indices, &values);
+    indices.back() = h.vertex_count;  // one past the last vertex
+    payload_vector("anchor_index_out_of_range", "last anchor index equals the vertex count", ddl,
+                   kAnchorsChunk, AnchorPayload(indices, values), kCorrupt);
+  }
+  {
+    // Keep only the anchors of the first anchor's component: the other components of the walker
+    // have none, so the normal matrix is singular there.
+    std::vector<int64_t> indices, kept;
+    std::vector<std::vector<int64_t>> values, kept_values;
+    BaseAnchors(walker, &indices, &values);
+    const std::vector<int32_t>& component = walker.parsed.topology.component_of_vertex;
+    for (size_t a = 0; a < indices.size(); ++a) {
+      if (component[indices[a]] == component[indices[0]]) {
+        kept.push_back(indices[a]);
+        kept_values.push_back(values[a]);
+      }
+    }
+    const std::vector<uint8_t> header = SegmentHeaderWith(walker, [&](format::SegmentHeader& g) {
+      g.anchor_count = static_cast<uint32_t>(kept.size());
+    });
+    const std::vector<uint8_t> anchors = AnchorPayload(kept, kept_values);
+    add("component_without_anchor",
+        "six-component mesh whose anchors all lie in one component: singular normal matrix", walker,
+        Edited(walker,
+               [&](Framed& f) {
+                 f.chunks[kSegmentHeaderChunk].payload = header;
+                 f.chunks[kAnchorsChunk].payload = anchors;
+               }),
+        ErrorCode::kNumericalFailure, kOk);
+  }
+  return out;
+}
+
+Status GenerateInvalid(const InvalidVector& vector, const fs::path& directory) {
+  const StatusOr<MeshSequence> decoded = Decode(vector.stream);
+  const ErrorCode got = decoded.ok() ? ErrorCode::kOk : decoded.status().code();
+  const StatusOr<StreamInfo> info = ReadStreamInfo(vector.stream);
+  const ErrorCode got_info = info.ok() ? ErrorCode::kOk : info.status().code();
+  if (got != vector.error || got_info != vector.info_error) {
+    return InternalError(vector.name + ": meant to give " +
+                         std::string(ErrorCodeName(vector.error)) + " / " +
+                         std::string(ErrorCodeName(vector.info_error)) + ", the decoder gives " +
+                         (decoded.ok() ? "ok" : decoded.status().ToString()) + " / " +
+                         (info.ok() ? "ok" : info.status().ToString()));
+  }
+  const Json manifest = {{"kind", "invalid"},
+                         {"format_version", VersionText()},
+                         {"generated", true},
+                         {"description", vector.description},
+                         {"derived_from", vector.derived_from},
+                         {"stream", vector.name + ".dmc"},
+                         {"error", ErrorCodeName(vector.error)},
+                         {"stream_info_error", ErrorCodeName(vector.info_error)},
+                         {"reference_message", decoded.ok() ? "" : decoded.status().message()}};
+  DMC_RETURN_IF_ERROR(WriteBytes(directory / (vector.name + ".dmc"), vector.stream));
+  DMC_RETURN_IF_ERROR(WriteJson(directory / (vector.name + ".json"), manifest));
+  return Status::Ok();
+}
+
+int Run(const fs::path& out, bool check) {
+  const fs::path valid_dir = out / "valid", invalid_dir = out / "invalid";
+  std::error_code error;
+  fs::create_directories(valid_dir, error);
+  fs::create_directories(invalid_dir, error);
+  if (error) {
+    std::fprintf(stderr, "cannot create %s: %s\n", out.string().c_str(), error.message().c_str());
+    return 1;
+  }
+  int failures = 0;
+  auto report = [&](const Status& status) {
+    if (!status.ok()) {
+      std::fprintf(stderr, "error: %s\n", status.ToString().c_str());
+      ++failures;
+    }
+  };
+  for (const ValidVector& vector : ValidVectors()) report(GenerateValid(vector, valid_dir));
+
+  StatusOr<Base> ddl = MakeBase("base_ddl", Synth("twist", 100, 3), Options("ddl"));
+  StatusOr<Base> tutte = MakeBase("base_tutte", Synth("cloth", 100, 3), Options("tutte"));
+  StatusOr<Base> walker = MakeBase("base_walker", Synth("walker", 100, 3), Options("ddl"));
+  for (const auto* base : {&ddl, &tutte, &walker}) {
+    if (!base->ok()) {
+      report(base->status());
+      return 1;
+    }
+  }
+  // The generated invalid vectors are rewritten as a set: remove the old generated ones first so
+  // a renamed or retired case does not linger. Hand-added ones (fuzz crashers) have no
+  // "generated" mark and stay.
+  for (const fs::path& manifest : FindManifests(invalid_dir)) {
+    const StatusOr<std::vector<uint8_t>> bytes = ReadBytes(manifest);
+    if (!bytes.ok()) continue;
+    const Json json = Json::parse(bytes->begin(), bytes->end(), nullptr, false);
+    if (json.is_discarded() || !json.is_object() || !json.value("generated", false)) continue;
+    fs::remove(manifest.parent_path() / json.value("stream", std::string()), error);
+    fs::remove(manifest, error);
+  }
+  const std::vector<InvalidVector> invalid = InvalidVectors(*ddl, *tutte, *walker);
+  for (const InvalidVector& vector : invalid) report(GenerateInvalid(vector, invalid_dir));
+  std::printf("invalid %zu vectors from bases of %zu, %zu and %zu bytes\n", invalid.size(),
+              ddl->stream.size(), tutte->stream.size(), walker->stream.size());
+
+  if (check) {
+    for (const fs::path& manifest : FindManifests(out)) {
+      const VectorResult result = CheckVector(manifest, CheckOptions{.require_bit_exact = true});
+      if (!result.passed) {
+        std::fprintf(stderr, "check failed: %s: %s\n", result.name.c_str(), result.detail.c_str());
+        ++failures;
+      }
+    }
+  }
+  if (failures > 0) std::fprintf(stderr, "%d failure(s)\n", failures);
+  return failures == 0 ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace dmc::conformance
+
+int main(int argc, char** argv) {
+  std::filesystem::path out;
+  bool check = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string argument = argv[i];
+    if (argument == "--out" && i + 1 < argc) {
+      out = argv[++i];
+    } else if (argument == "--check") {
+      check = true;
+    } else {
+      std::fprintf(stderr, "usage: dmc_conformance_generate --out DIR [--check]\n");
+      return 2;
+    }
+  }
+  if (out.empty()) {
+    std::fprintf(stderr, "usage: dmc_conformance_generate --out DIR [--check]\n");
+    return 2;
+  }
+  return dmc::conformance::Run(out, check);
+}
