@@ -672,9 +672,25 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   segment_vector(
       "operator_id_zero", "operator ID 0 (reserved)",
       [](format::SegmentHeader& g) { g.operator_id = 0; }, kUnsupported, ddl);
-  segment_vector(
-      "operator_id_cotan", "operator ID 3 (cotan): a registry operator, not a 1.0 codec one",
-      [](format::SegmentHeader& g) { g.operator_id = 3; }, kUnsupported, ddl);
+  {
+    // A frozen operator ID (a registry operator) that streams of this version may not name: the
+    // first one the reference decoder refuses, so the vector follows the codec operator set.
+    for (const WireName<OperatorId>& row : kOperatorIdNames) {
+      const auto id = static_cast<uint8_t>(row.value);
+      if (row.value == OperatorId::kInvalid) continue;
+      const std::vector<uint8_t> payload =
+          SegmentHeaderWith(ddl, [&](format::SegmentHeader& g) { g.operator_id = id; });
+      std::vector<uint8_t> stream =
+          Edited(ddl, [&](Framed& f) { f.chunks[kSegmentHeaderChunk].payload = payload; });
+      const StatusOr<StreamInfo> info = ReadStreamInfo(stream);
+      if (info.ok() || info.status().code() != kUnsupported) continue;
+      add("operator_id_not_codec",
+          "operator ID " + std::to_string(id) + " (" + std::string(row.name) +
+              "): a frozen registry ID that format " + VersionText() + " streams may not name",
+          ddl, std::move(stream), kUnsupported, kUnsupported);
+      break;
+    }
+  }
   segment_vector(
       "segment_first_frame_wrong", "first segment starts at frame 1",
       [](format::SegmentHeader& g) { g.first_frame = 1; }, kCorrupt, ddl);
