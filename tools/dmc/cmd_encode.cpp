@@ -91,7 +91,9 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_option("-o,--output", args->output, "Output .dmc file")->required();
   app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
   EncoderOptions& o = args->options;
-  app->add_option("--operator", o.operator_name, "Laplace operator: ddl, tutte, kirchhoff")
+  app->add_option(
+         "--operator", o.operator_name,
+         "Laplace operator: ddl, tutte, kirchhoff, cotan, cotan-area, cotan-sym, mean-value")
       ->capture_default_str();
   app->add_option("--rank", o.rank, "PCA basis vectors per segment (0 = automatic)")
       ->capture_default_str();
@@ -109,6 +111,9 @@ Command AddEncodeCommand(CLI::App& parent) {
                   "Anchor quantisation step relative to the residual step")
       ->capture_default_str();
   app->add_option("--segment-frames", o.segment_frames, "Maximum frames per segment (0 = default)")
+      ->capture_default_str();
+  app->add_option("--reference-bits", o.reference_bits,
+                  "Geometric operators: reference frame step = diagonal * 2^-bits")
       ->capture_default_str();
   app->add_option("--weight-bits", o.weight_bits, "DDL weight step 2^-bits")->capture_default_str();
   app->add_option("--ddl-mu", o.ddl_regularization, "DDL Tikhonov pull toward Tutte")

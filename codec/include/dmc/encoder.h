@@ -26,13 +26,14 @@ struct EncoderOptions {
   // residual step): a component is worth its coefficients while dropping it would cost more
   // squared error than quantising it does.
   double rank_threshold = 10.0;
-  int basis_bits = 10;              // basis quantisation bits (2..16)
-  int residual_bits = 10;           // residual step = bbox diagonal * 2^-residual_bits
-  double residual_step = 0.0;       // absolute step; overrides residual_bits when > 0
-  int anchors = -1;                 // anchor vertices per segment; -1 = automatic
-  double anchor_step_ratio = 0.5;   // anchor quantisation step / residual step
-  int segment_frames = 0;           // maximum frames per segment; 0 = default
-  int weight_bits = 7;              // DDL weight step 2^-weight_bits
+  int basis_bits = 10;             // basis quantisation bits (2..16)
+  int residual_bits = 10;          // residual step = bbox diagonal * 2^-residual_bits
+  double residual_step = 0.0;      // absolute step; overrides residual_bits when > 0
+  int anchors = -1;                // anchor vertices per segment; -1 = automatic
+  double anchor_step_ratio = 0.5;  // anchor quantisation step / residual step
+  int segment_frames = 0;          // maximum frames per segment; 0 = default
+  int reference_bits = 11;  // geometric operators: reference frame step = diagonal · 2^-bits
+  int weight_bits = 7;      // DDL weight step 2^-weight_bits
   double ddl_regularization = 0.1;  // DDL Tikhonov pull toward Tutte (relative)
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).

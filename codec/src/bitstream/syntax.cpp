@@ -6,6 +6,8 @@
 #include <bit>
 #include <set>
 
+#include "dmc/wire_ids.h"
+
 namespace dmc::format {
 
 uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload) {
@@ -65,6 +67,27 @@ std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology) {
     if (!visit.unknown_edges.empty()) schedule.push_back(std::move(visit));
   }
   return schedule;
+}
+
+bool IsCodecOperator(uint8_t operator_id) {
+  switch (static_cast<OperatorId>(operator_id)) {
+    case OperatorId::kKirchhoff:
+    case OperatorId::kTutte:
+    case OperatorId::kDdl:
+    case OperatorId::kCotan:
+    case OperatorId::kCotanArea:
+    case OperatorId::kCotanSym:
+    case OperatorId::kMeanValue:
+      return true;
+    default:
+      return false;
+  }
+}
+
+bool IsGeometricOperator(uint8_t operator_id) {
+  const auto id = static_cast<OperatorId>(operator_id);
+  return id == OperatorId::kCotan || id == OperatorId::kCotanArea || id == OperatorId::kCotanSym ||
+         id == OperatorId::kMeanValue;
 }
 
 int64_t ReferenceWeight(const MeshTopology& topology, int edge) {

@@ -80,6 +80,20 @@ struct AnchorContexts {
   IntegerContexts value[kBasisColumnGroups];
 };
 
+// Codec operators of format 1.0 and what their operator chunk carries: nothing (kirchhoff, tutte),
+// DDL edge weights (ddl), or a quantised reference frame (cotan, cotan-area, cotan-sym,
+// mean-value), from which the decoder computes the geometric weights.
+bool IsCodecOperator(uint8_t operator_id);
+bool IsGeometricOperator(uint8_t operator_id);
+
+// Reference frame coding: vertices in BreadthFirstOrder; each coordinate is an integer on the grid
+// of the chunk's step, predicted by the rounded mean (RoundDiv) of the already decoded one-ring
+// neighbours, or by the previously decoded vertex when none is decoded yet (0 for the first).
+struct ReferenceFrameContexts {
+  IntegerContexts with_neighbours[3];
+  IntegerContexts without_neighbours[3];
+};
+
 struct MeanContexts {
   IntegerContexts first;
   IntegerContexts delta;

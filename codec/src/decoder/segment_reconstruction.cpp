@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "bitstream/syntax.h"
+
 namespace dmc {
 
 StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
@@ -17,6 +19,9 @@ StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
       weights.values[e] = static_cast<double>(syntax.edge_weights[e]) * unit;
     }
     return RebuildOperator(id, topology, nullptr, &weights);
+  }
+  if (format::IsGeometricOperator(syntax.header.operator_id)) {
+    return RebuildOperator(id, topology, &syntax.reference_frame, nullptr);
   }
   if (id == OperatorId::kKirchhoff || id == OperatorId::kTutte) {
     return RebuildOperator(id, topology, nullptr, nullptr);

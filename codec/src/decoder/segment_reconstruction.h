@@ -18,6 +18,7 @@ struct SegmentSyntax {
   format::SegmentHeader header;
   Eigen::VectorXd mean;               // 3F mean trajectory
   Eigen::MatrixXd basis;              // 3F × r dequantised basis
+  FramePositionsD reference_frame;    // geometric operators: decoded reference frame (V×3)
   std::vector<int64_t> edge_weights;  // DDL: integer weights per edge (units 2^-weight_bits)
   std::vector<int32_t> anchors;       // ascending vertex indices
   Eigen::MatrixXd anchor_values;      // anchors × r dequantised coefficients

@@ -1,6 +1,8 @@
 #include "decoder/syntax_reader.h"
 
+#include <array>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "bitstream/syntax.h"
@@ -17,6 +19,54 @@ Status CheckFinitePositive(double value, const char* field) {
                               std::to_string(value));
   }
   return Status::Ok();
+}
+
+// Operator chunk of a geometric operator: f64 grid step, then the range-coded reference frame.
+Status ReadReferenceFrame(std::span<const uint8_t> payload, const MeshTopology& topology,
+                          SegmentSyntax& syntax) {
+  ByteReader reader(payload);
+  double step;
+  DMC_RETURN_IF_ERROR(reader.GetF64(&step, "reference frame step"));
+  DMC_RETURN_IF_ERROR(CheckFinitePositive(step, "reference frame step"));
+  RangeDecoder decoder;
+  DMC_RETURN_IF_ERROR(decoder.Init(payload.subspan(8)));
+  auto contexts = std::make_unique<format::ReferenceFrameContexts>();
+  const int v_count = topology.vertex_count;
+  const std::vector<int32_t> order = format::BreadthFirstOrder(topology);
+  std::vector<uint8_t> decoded(v_count, 0);
+  std::vector<std::array<int64_t, 3>> q(v_count);
+  std::array<int64_t, 3> previous = {0, 0, 0};
+  constexpr int64_t kLimit = int64_t{1} << 40;
+  for (const int v : order) {
+    std::array<int64_t, 3> sum = {0, 0, 0};
+    int count = 0;
+    for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+      const int n = topology.ring_neighbors[k];
+      if (!decoded[n]) continue;
+      for (int axis = 0; axis < 3; ++axis) sum[axis] += q[n][axis];
+      ++count;
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      const int64_t prediction = count > 0 ? format::RoundDiv(sum[axis], count) : previous[axis];
+      int64_t residual;
+      DMC_RETURN_IF_ERROR(decoder.DecodeSigned(
+          count > 0 ? contexts->with_neighbours[axis] : contexts->without_neighbours[axis],
+          &residual));
+      q[v][axis] = prediction + residual;
+      if (q[v][axis] > kLimit || q[v][axis] < -kLimit) {
+        return CorruptStreamError("reference frame coordinate out of range");
+      }
+    }
+    decoded[v] = 1;
+    previous = q[v];
+  }
+  syntax.reference_frame.resize(v_count, 3);
+  for (int v = 0; v < v_count; ++v) {
+    for (int axis = 0; axis < 3; ++axis) {
+      syntax.reference_frame(v, axis) = static_cast<double>(q[v][axis]) * step;
+    }
+  }
+  return decoder.CheckNotOverrun("reference frame");
 }
 
 }  // namespace
@@ -66,8 +116,7 @@ StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> paylo
       &value, 0, std::min<uint64_t>(format::kMaxRank, 3ull * h.frame_count), "segment rank"));
   h.rank = static_cast<uint32_t>(value);
   DMC_RETURN_IF_ERROR(reader.GetU8(&h.operator_id, "operator ID"));
-  const auto id = static_cast<OperatorId>(h.operator_id);
-  if (id != OperatorId::kKirchhoff && id != OperatorId::kTutte && id != OperatorId::kDdl) {
+  if (!format::IsCodecOperator(h.operator_id)) {
     return UnsupportedError("operator wire ID " + std::to_string(h.operator_id) +
                             " is not a codec operator of format 1.0");
   }
@@ -155,9 +204,13 @@ Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax) {
 Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topology,
                     SegmentSyntax& syntax) {
   const auto id = static_cast<OperatorId>(syntax.header.operator_id);
+  if (format::IsGeometricOperator(syntax.header.operator_id)) {
+    return ReadReferenceFrame(payload, topology, syntax);
+  }
   if (id != OperatorId::kDdl) {
-    if (!payload.empty())
+    if (!payload.empty()) {
       return CorruptStreamError("operator chunk must be empty for this operator");
+    }
     return Status::Ok();
   }
   RangeDecoder decoder;

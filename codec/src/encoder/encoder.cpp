@@ -34,7 +34,11 @@ struct CodecOperator {
 };
 constexpr CodecOperator kCodecOperators[] = {{"ddl", OperatorId::kDdl},
                                              {"tutte", OperatorId::kTutte},
-                                             {"kirchhoff", OperatorId::kKirchhoff}};
+                                             {"kirchhoff", OperatorId::kKirchhoff},
+                                             {"cotan", OperatorId::kCotan},
+                                             {"cotan-area", OperatorId::kCotanArea},
+                                             {"cotan-sym", OperatorId::kCotanSym},
+                                             {"mean-value", OperatorId::kMeanValue}};
 
 StatusOr<OperatorId> CodecOperatorId(std::string_view name) {
   for (const auto& op : kCodecOperators) {
@@ -76,6 +80,9 @@ Status ValidateOptions(const EncoderOptions& o) {
   if (o.segment_frames < 0 || o.segment_frames > static_cast<int>(format::kMaxSegmentFrames)) {
     return bad("--segment-frames must be in [0, " + std::to_string(format::kMaxSegmentFrames) +
                "]");
+  }
+  if (o.reference_bits < 4 || o.reference_bits > 30) {
+    return bad("--reference-bits must be in [4, 30], got " + std::to_string(o.reference_bits));
   }
   if (o.weight_bits < 2 || o.weight_bits > 20) {
     return bad("--weight-bits must be in [2, 20], got " + std::to_string(o.weight_bits));
@@ -207,6 +214,15 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
         FitDdlSymmetric(topology, SourceFromTrajectories(coefficients), operator_options));
     operator_payload = syntax::WriteDdlWeights(fitted.weights.values, topology, options.weight_bits,
                                                mode, &syntax.edge_weights);
+  } else if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id))) {
+    // The reference frame is the segment's mean shape, coded so both sides build the same
+    // geometric operator from it.
+    FramePositionsD mean_frame = FramePositionsD::Zero(v_count, 3);
+    for (int f = 0; f < frame_count; ++f) mean_frame += trajectories.middleCols(3 * f, 3);
+    mean_frame /= frame_count;
+    operator_payload = syntax::WriteReferenceFrame(mean_frame, topology,
+                                                   std::ldexp(diagonal, -options.reference_bits),
+                                                   &syntax.reference_frame);
   } else if (operator_id == OperatorId::kDdl) {
     // Rank 0: nothing to reconstruct; send Tutte-like predicted weights (all residuals zero).
     std::vector<double> predicted(topology.edges.size(), 0.0);

@@ -1,5 +1,6 @@
 #include "encoder/syntax_writer.h"
 
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -139,6 +140,46 @@ std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
     }
   }
   return encoder.Finish();
+}
+
+std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const MeshTopology& topology,
+                                         double step, FramePositionsD* decoded) {
+  ByteWriter header;
+  header.PutF64(step);
+  RangeEncoder encoder;
+  auto contexts = std::make_unique<format::ReferenceFrameContexts>();
+  const int v_count = topology.vertex_count;
+  std::vector<uint8_t> done(v_count, 0);
+  std::vector<std::array<int64_t, 3>> q(v_count);
+  std::array<int64_t, 3> previous = {0, 0, 0};
+  for (const int v : format::BreadthFirstOrder(topology)) {
+    std::array<int64_t, 3> sum = {0, 0, 0};
+    int count = 0;
+    for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+      const int n = topology.ring_neighbors[k];
+      if (!done[n]) continue;
+      for (int axis = 0; axis < 3; ++axis) sum[axis] += q[n][axis];
+      ++count;
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      const int64_t prediction = count > 0 ? format::RoundDiv(sum[axis], count) : previous[axis];
+      q[v][axis] = std::llround(frame(v, axis) / step);
+      encoder.EncodeSigned(
+          count > 0 ? contexts->with_neighbours[axis] : contexts->without_neighbours[axis],
+          q[v][axis] - prediction);
+    }
+    done[v] = 1;
+    previous = q[v];
+  }
+  decoded->resize(v_count, 3);
+  for (int v = 0; v < v_count; ++v) {
+    for (int axis = 0; axis < 3; ++axis)
+      (*decoded)(v, axis) = static_cast<double>(q[v][axis]) * step;
+  }
+  std::vector<uint8_t> payload = header.Take();
+  const std::vector<uint8_t> coded = encoder.Finish();
+  payload.insert(payload.end(), coded.begin(), coded.end());
+  return payload;
 }
 
 std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,

@@ -38,6 +38,12 @@ std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
                                      format::WeightPrediction prediction_mode,
                                      std::vector<int64_t>* decoded);
 
+// Quantises a reference frame (V×3) to the grid of `step` and codes it with one-ring mean
+// prediction in BreadthFirstOrder; returns the payload (f64 step + range-coded residuals) and the
+// decoded frame.
+std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const MeshTopology& topology,
+                                         double step, FramePositionsD* decoded);
+
 // Codes ascending anchor indices and their coefficients quantised with header.anchor_step;
 // returns the dequantised anchor coefficients.
 std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,

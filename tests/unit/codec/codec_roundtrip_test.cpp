@@ -102,7 +102,9 @@ TEST_P(CodecRoundTrip, DecodesWhatTheEncoderMeasured) {
   EXPECT_EQ(*again, *bytes);
 }
 
-INSTANTIATE_TEST_SUITE_P(Operators, CodecRoundTrip, ::testing::Values("ddl", "tutte", "kirchhoff"));
+INSTANTIATE_TEST_SUITE_P(Operators, CodecRoundTrip,
+                         ::testing::Values("ddl", "tutte", "kirchhoff", "cotan", "cotan-area",
+                                           "cotan-sym", "mean-value"));
 
 TEST(Codec, RateFallsAndDistortionRisesWithTheStep) {
   const MeshSequence original = WobblingSphere(14, 20, 16);
