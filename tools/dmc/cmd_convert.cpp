@@ -81,7 +81,8 @@ Command AddConvertCommand(CLI::App& parent) {
       ->check(CLI::IsMember({"obj", "off", "ply"}))
       ->capture_default_str();
   app->add_option("--connectivity", args->connectivity,
-                  "PC2 input only: mesh file giving the triangles (default: <stem>.obj beside it)");
+                  "PC2 input only: mesh file giving the triangles (default: <stem>.obj, .off or "
+                  ".ply beside the cache)");
   app->add_option("--max-frames", args->max_frames, "Convert only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--json", args->json, "Print a JSON summary instead of text");

@@ -103,7 +103,8 @@ Command AddInfoCommand(CLI::App& parent) {
                   "one mesh file, or a .pc2 cache")
       ->required();
   app->add_option("--connectivity", args->connectivity,
-                  "PC2 only: mesh file giving the triangles (default: <stem>.obj beside it)");
+                  "PC2 only: mesh file giving the triangles (default: <stem>.obj, .off or .ply "
+                  "beside the cache)");
   app->add_option("--max-frames", args->max_frames, "Read only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--json", args->json, "Print a JSON object instead of text");
