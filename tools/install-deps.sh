@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libdraco-dev libopenmesh-dev libzstd-dev libgtest-dev libgmock-dev
-  libbenchmark-dev libsuitesparse-dev libtbb-dev libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
+  libbenchmark-dev libmeshoptimizer-dev libsuitesparse-dev libtbb-dev libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
 )
 
 missing=()

@@ -21,5 +21,6 @@ Command AddMetricsCommand(CLI::App& parent);
 Command AddLaplacianCommand(CLI::App& parent);
 Command AddEncodeCommand(CLI::App& parent);
 Command AddDecodeCommand(CLI::App& parent);
+Command AddSweepCommand(CLI::App& parent);
 
 }  // namespace dmc::cli

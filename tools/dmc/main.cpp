@@ -12,9 +12,9 @@ int main(int argc, char** argv) {
   using AddCommand = dmc::cli::Command (*)(CLI::App&);
   // The subcommand table, in the order --help lists them.
   const AddCommand table[] = {
-      dmc::cli::AddEncodeCommand,  dmc::cli::AddDecodeCommand,    dmc::cli::AddInfoCommand,
-      dmc::cli::AddMetricsCommand, dmc::cli::AddConvertCommand,   dmc::cli::AddSynthCommand,
-      dmc::cli::AddLaplacianCommand,
+      dmc::cli::AddEncodeCommand,    dmc::cli::AddDecodeCommand,  dmc::cli::AddInfoCommand,
+      dmc::cli::AddMetricsCommand,   dmc::cli::AddConvertCommand, dmc::cli::AddSynthCommand,
+      dmc::cli::AddLaplacianCommand, dmc::cli::AddSweepCommand,
   };
   std::vector<dmc::cli::Command> commands;
   for (AddCommand add : table) commands.push_back(add(app));

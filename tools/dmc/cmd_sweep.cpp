@@ -1,0 +1,248 @@
+// dmc sweep: rate–distortion curves of dmc (one per Laplace operator) and of the baseline codecs
+// (Draco per frame, meshoptimizer + zstd, quantised deltas + zstd), all decoded and measured with
+// the same metrics; writes rd.csv, rd_sted.svg, rd_kg.svg and summary.md.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "dmc/io.h"
+#include "sweep/report.h"
+#include "sweep/sweep.h"
+
+namespace dmc::cli {
+namespace {
+
+struct SweepArgs {
+  std::string input;
+  std::string output;
+  std::string connectivity;
+  int max_frames = 0;
+  std::vector<std::string> operators = sweep::SweepOptions().operators;
+  std::vector<std::string> baselines = {"draco", "meshopt", "zstd"};
+  std::vector<double> sted_targets = {0.01, 0.02, 0.05};
+  sweep::SweepOptions options;
+  bool json = false;
+};
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string joined;
+  for (const std::string& item : items) joined += (joined.empty() ? "" : ",") + item;
+  return joined;
+}
+
+// The equivalent command line, written into summary.md so a sweep can be rerun.
+std::string CommandLine(const SweepArgs& args) {
+  const sweep::SweepOptions& o = args.options;
+  std::string targets;
+  for (const double target : args.sted_targets) {
+    targets += (targets.empty() ? "" : ",") + fmt::format("{:g}", target);
+  }
+  std::string line = fmt::format(
+      "dmc sweep {} -o {} --operators {} --baselines {} --points {} --min-residual-bits {:g} "
+      "--max-residual-bits {:g} --basis-bits {} --min-baseline-bits {} --max-baseline-bits {} "
+      "--sted-targets {}",
+      args.input, args.output, args.operators.empty() ? "none" : Join(args.operators),
+      args.baselines.empty() ? "none" : Join(args.baselines), o.points, o.min_residual_bits,
+      o.max_residual_bits, o.basis_bits, o.min_baseline_bits, o.max_baseline_bits, targets);
+  if (args.max_frames > 0) line += fmt::format(" --max-frames {}", args.max_frames);
+  if (!args.connectivity.empty()) line += " --connectivity " + args.connectivity;
+  return line;
+}
+
+// "none" (or nothing) selects no item.
+std::vector<std::string> WithoutNone(std::vector<std::string> items) {
+  std::erase_if(items, [](const std::string& item) { return item == "none" || item.empty(); });
+  return items;
+}
+
+Status WriteText(const std::filesystem::path& path, const std::string& text) {
+  return WriteFileAtomically(
+      path, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+}
+
+nlohmann::json PointJson(const sweep::RdPoint& p) {
+  const auto optional_int = [](int value) -> nlohmann::json {
+    return value < 0 ? nlohmann::json(nullptr) : nlohmann::json(value);
+  };
+  return {{"codec", p.codec},
+          {"operator",
+           p.operator_name.empty() ? nlohmann::json(nullptr) : nlohmann::json(p.operator_name)},
+          {"rank", optional_int(p.rank)},
+          {"basis_bits", optional_int(p.basis_bits)},
+          {"residual_bits", p.residual_bits},
+          {"anchors", optional_int(p.anchors)},
+          {"bytes", p.bytes},
+          {"bpfv", p.bpfv},
+          {"kg", p.kg},
+          {"sted", p.sted},
+          {"encode_s", p.encode_s},
+          {"decode_s", p.decode_s}};
+}
+
+int RunSweep(SweepArgs args) {
+  args.operators = WithoutNone(args.operators);
+  args.baselines = WithoutNone(args.baselines);
+  sweep::SweepOptions options = args.options;
+  options.operators = args.operators;
+  options.baselines.clear();
+  for (const std::string& name : args.baselines) {
+    StatusOr<sweep::BaselineKind> kind = sweep::ParseBaseline(name);
+    if (!kind.ok()) return ReportError("sweep", kind.status(), args.json);
+    options.baselines.push_back(*kind);
+  }
+  // Everything that can be checked before the (long) run.
+  if (Status valid = sweep::ValidateSweepOptions(options); !valid.ok()) {
+    return ReportError("sweep", valid, args.json);
+  }
+  for (const double target : args.sted_targets) {
+    if (!(target > 0.0)) {
+      return ReportError("sweep", InvalidArgumentError("--sted-targets must be positive"),
+                         args.json);
+    }
+  }
+  const std::filesystem::path output(args.output);
+  std::error_code error;
+  std::filesystem::create_directories(output, error);
+  if (error || !std::filesystem::is_directory(output)) {
+    return ReportError("sweep",
+                       IoError("cannot create output directory " + args.output + ": " +
+                               (error ? error.message() : "a file is in the way")),
+                       args.json);
+  }
+
+  ReadOptions read_options;
+  read_options.connectivity = args.connectivity;
+  read_options.max_frames = args.max_frames;
+  ReadReport read_report;
+  StatusOr<MeshSequence> sequence = ReadSequence(args.input, read_options, &read_report);
+  if (!sequence.ok()) return ReportError("sweep", sequence.status(), args.json);
+  if (!args.json) {
+    for (const std::string& warning : read_report.warnings) ReportWarning("sweep", warning);
+    fmt::print("{}: {} frames x {} vertices\n", args.input, sequence->frame_count(),
+               sequence->vertex_count());
+  }
+
+  std::optional<Progress> progress;
+  const auto on_point = [&](const sweep::RdPoint* point, const std::string& warning, int done,
+                            int total) {
+    if (!progress) progress.emplace("sweep", total);
+    progress->Update(done);
+    if (!warning.empty()) ReportWarning("sweep", warning);
+    if (point != nullptr && !args.json) {
+      fmt::print(
+          "  {:<16} bits {:5.2f}  rank {:>3}  {:8.4f} bpfv  KG {:8.4f}  STED {:8.5f}  "
+          "encode {:6.2f} s  decode {:6.3f} s\n",
+          point->Curve(), point->residual_bits,
+          point->rank < 0 ? std::string("-") : std::to_string(point->rank), point->bpfv, point->kg,
+          point->sted, point->encode_s, point->decode_s);
+      std::fflush(stdout);
+    }
+  };
+  StatusOr<sweep::SweepResult> result = sweep::RunSweep(*sequence, options, on_point);
+  progress.reset();
+  if (!result.ok()) return ReportError("sweep", result.status(), args.json);
+
+  sweep::SummaryContext context;
+  context.input = args.input;
+  context.command = CommandLine(args);
+  context.vertices = sequence->vertex_count();
+  context.frames = sequence->frame_count();
+  context.sted = options.sted;
+  context.sted_targets = args.sted_targets;
+  context.warnings = result->warnings;
+  const std::string subtitle = fmt::format("{}: {} vertices × {} frames",
+                                           sequence->name.empty() ? args.input : sequence->name,
+                                           sequence->vertex_count(), sequence->frame_count());
+  const std::pair<std::string, std::string> files[] = {
+      {"rd.csv", sweep::RdCsv(result->points)},
+      {"rd_sted.svg",
+       sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kSted, subtitle))},
+      {"rd_kg.svg",
+       sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kKg, subtitle))},
+      {"summary.md", sweep::SummaryMarkdown(result->points, context)},
+  };
+  for (const auto& [name, text] : files) {
+    if (Status written = WriteText(output / name, text); !written.ok()) {
+      return ReportError("sweep", written, args.json);
+    }
+  }
+
+  if (args.json) {
+    nlohmann::json points = nlohmann::json::array();
+    for (const sweep::RdPoint& point : result->points) points.push_back(PointJson(point));
+    PrintJson({{"input", args.input},
+               {"vertices", sequence->vertex_count()},
+               {"frames", sequence->frame_count()},
+               {"output", args.output},
+               {"points", points},
+               {"warnings", result->warnings}});
+    return 0;
+  }
+  fmt::print("\n{}", sweep::RateTargetTable(result->points, context));
+  fmt::print("wrote {0}/rd.csv, {0}/rd_sted.svg, {0}/rd_kg.svg, {0}/summary.md\n", args.output);
+  return 0;
+}
+
+}  // namespace
+
+Command AddSweepCommand(CLI::App& parent) {
+  auto args = std::make_shared<SweepArgs>();
+  CLI::App* app = parent.add_subcommand(
+      "sweep",
+      "Rate-distortion sweep: encode, decode and measure INPUT at a ladder of rates with dmc "
+      "(one curve per operator) and with baseline codecs; writes DIR/rd.csv, DIR/rd_sted.svg, "
+      "DIR/rd_kg.svg and DIR/summary.md");
+  app->add_option("INPUT", args->input,
+                  "Sequence: a directory of .obj/.off/.ply frames, a glob, or a .pc2 cache")
+      ->required();
+  app->add_option("-o,--output", args->output, "Output directory (created if missing)")->required();
+  app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
+  app->add_option("--max-frames", args->max_frames, "Sweep only the first N frames (0 = all)")
+      ->capture_default_str();
+  app->add_option("--operators", args->operators,
+                  "Comma-separated codec operators, one curve each (or 'none')")
+      ->delimiter(',')
+      ->capture_default_str();
+  app->add_option("--baselines", args->baselines,
+                  "Comma-separated baselines among draco, meshopt, zstd (or 'none')")
+      ->delimiter(',')
+      ->capture_default_str();
+  sweep::SweepOptions& o = args->options;
+  app->add_option("--points", o.points, "Ladder rungs per curve (>= 2)")->capture_default_str();
+  app->add_option("--min-residual-bits", o.min_residual_bits,
+                  "dmc ladder: coarsest residual step = diagonal * 2^-bits")
+      ->capture_default_str();
+  app->add_option("--max-residual-bits", o.max_residual_bits,
+                  "dmc ladder: finest residual step = diagonal * 2^-bits")
+      ->capture_default_str();
+  app->add_option("--basis-bits", o.basis_bits,
+                  "dmc basis quantisation bits (0 = clamp(residual bits, 10, 16) per rung)")
+      ->capture_default_str();
+  app->add_option("--min-baseline-bits", o.min_baseline_bits,
+                  "Baselines: coarsest position quantisation bits")
+      ->capture_default_str();
+  app->add_option("--max-baseline-bits", o.max_baseline_bits,
+                  "Baselines: finest position quantisation bits")
+      ->capture_default_str();
+  app->add_option("--sted-targets", args->sted_targets,
+                  "Comma-separated STED values for the rate table of summary.md")
+      ->delimiter(',')
+      ->capture_default_str();
+  app->add_option("--sted-width", o.sted.width, "STED neighbourhood width w")
+      ->capture_default_str();
+  app->add_option("--sted-dt", o.sted.dt, "STED frame distance dt")->capture_default_str();
+  app->add_option("--sted-window", o.sted.window, "STED speed window s")->capture_default_str();
+  app->add_option("--sted-c", o.sted.c, "STED weight c of the temporal part")
+      ->capture_default_str();
+  app->add_flag("--json", args->json, "Print the points as JSON instead of the text report");
+  return {app, [args] { return RunSweep(*args); }};
+}
+
+}  // namespace dmc::cli

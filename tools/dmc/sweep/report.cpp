@@ -1,0 +1,209 @@
+#include "sweep/report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <optional>
+
+#include "sweep/rd_analysis.h"
+
+namespace dmc::sweep {
+namespace {
+
+std::string OptionalInt(int value) { return value < 0 ? "" : std::to_string(value); }
+
+std::string Number(double value) { return fmt::format("{:.6g}", value); }
+
+std::vector<RdSample> Samples(const std::vector<RdPoint>& points, const std::string& curve,
+                              RdMetric metric) {
+  std::vector<RdSample> samples;
+  for (const RdPoint& point : points) {
+    if (point.Curve() == curve) {
+      samples.push_back({point.bpfv, metric == RdMetric::kSted ? point.sted : point.kg});
+    }
+  }
+  return samples;
+}
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const size_t mid = values.size() / 2;
+  return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
+}
+
+std::string RateCell(const RateAtTarget& rate) {
+  switch (rate.kind) {
+    case RateAtTarget::Kind::kInterpolated:
+      return fmt::format("{:.3g}", rate.rate);
+    case RateAtTarget::Kind::kBelowRange:
+      return fmt::format("≤ {:.3g}", rate.rate);
+    case RateAtTarget::Kind::kAboveRange:
+      return rate.rate > 0.0 ? fmt::format("> {:.3g}", rate.rate) : "–";
+  }
+  return "–";
+}
+
+std::string PercentCell(const std::optional<double>& percent) {
+  return percent ? fmt::format("{:+.1f} %", *percent) : "–";
+}
+
+}  // namespace
+
+std::string RdCsv(const std::vector<RdPoint>& points) {
+  std::string csv = std::string(kRdCsvHeader) + "\n";
+  for (const RdPoint& p : points) {
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{:.4f},{:.4f}\n", p.codec, p.operator_name,
+                       OptionalInt(p.rank), OptionalInt(p.basis_bits), Number(p.residual_bits),
+                       OptionalInt(p.anchors), Number(p.bpfv), Number(p.kg), Number(p.sted),
+                       p.encode_s, p.decode_s);
+  }
+  return csv;
+}
+
+std::vector<std::string> CurveNames(const std::vector<RdPoint>& points) {
+  std::vector<std::string> names;
+  for (const RdPoint& point : points) {
+    const std::string curve = point.Curve();
+    if (std::find(names.begin(), names.end(), curve) == names.end()) names.push_back(curve);
+  }
+  return names;
+}
+
+PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::string& subtitle) {
+  PlotSpec spec;
+  const bool sted = metric == RdMetric::kSted;
+  spec.title = sted ? "Rate–distortion: STED" : "Rate–distortion: KG error";
+  spec.subtitle = subtitle;
+  spec.x_label = "rate (bits per frame and vertex, bpfv, log scale)";
+  spec.y_label =
+      sted ? "STED (log scale, lower is better)" : "KG error, % (log scale, lower is better)";
+  for (const std::string& curve : CurveNames(points)) {
+    PlotSeries series;
+    series.label = curve;
+    series.dashed = curve.rfind("dmc/", 0) != 0;
+    for (const RdPoint& point : points) {
+      if (point.Curve() == curve)
+        series.points.emplace_back(point.bpfv, sted ? point.sted : point.kg);
+    }
+    spec.series.push_back(std::move(series));
+  }
+  return spec;
+}
+
+std::string RateTargetTable(const std::vector<RdPoint>& points, const SummaryContext& context) {
+  const std::vector<std::string> curves = CurveNames(points);
+  const bool have_anchor =
+      std::find(curves.begin(), curves.end(), context.bd_anchor) != curves.end();
+  std::string md;
+  md += "## Rate needed for a target STED (bpfv)\n\n";
+  md += "| curve |";
+  for (const double target : context.sted_targets) md += fmt::format(" STED {:g} |", target);
+  md += fmt::format(" BD-rate vs {} (STED) | BD-rate vs {} (KG) |\n", context.bd_anchor,
+                    context.bd_anchor);
+  md += "|---|";
+  for (size_t i = 0; i < context.sted_targets.size(); ++i) md += "---:|";
+  md += "---:|---:|\n";
+  const std::vector<RdSample> anchor_sted =
+      ParetoFront(Samples(points, context.bd_anchor, RdMetric::kSted));
+  const std::vector<RdSample> anchor_kg =
+      ParetoFront(Samples(points, context.bd_anchor, RdMetric::kKg));
+  for (const std::string& curve : curves) {
+    const std::vector<RdSample> sted_front = ParetoFront(Samples(points, curve, RdMetric::kSted));
+    const std::vector<RdSample> kg_front = ParetoFront(Samples(points, curve, RdMetric::kKg));
+    md += fmt::format("| {} |", curve);
+    for (const double target : context.sted_targets) {
+      md += fmt::format(" {} |", RateCell(RateForDistortion(sted_front, target)));
+    }
+    if (!have_anchor) {
+      md += " – | – |\n";
+    } else if (curve == context.bd_anchor) {
+      md += " 0 (anchor) | 0 (anchor) |\n";
+    } else {
+      md += fmt::format(" {} | {} |\n", PercentCell(BjontegaardDeltaRate(anchor_sted, sted_front)),
+                        PercentCell(BjontegaardDeltaRate(anchor_kg, kg_front)));
+    }
+  }
+  md +=
+      "\nRates are interpolated linearly in log–log between the two efficient points around the "
+      "target (points that cost more for no gain are ignored). \"≤ r\": the cheapest point, at "
+      "r bpfv, already meets the target; \"> r\": no point up to r bpfv reaches it. BD-rate: the "
+      "average rate difference at equal distortion over the distortion range both curves cover "
+      "(Bjøntegaard, monotone cubic interpolation of log rate over log distortion); negative "
+      "means fewer bits than the anchor; \"–\" when the ranges do not overlap.\n\n";
+
+  return md;
+}
+
+std::string SummaryMarkdown(const std::vector<RdPoint>& points, const SummaryContext& context) {
+  const std::vector<std::string> curves = CurveNames(points);
+  std::string md = fmt::format("# Rate–distortion sweep of `{}`\n\n", context.input);
+  md += fmt::format(
+      "{} vertices × {} frames. Every point was encoded, decoded and measured against the input "
+      "with the same metrics (STED with w = {}, dt = {}, s = {}, c = {}). bpfv counts every byte "
+      "a decoder reads.\n\n",
+      context.vertices, context.frames, context.sted.width, context.sted.dt, context.sted.window,
+      context.sted.c);
+  if (!context.command.empty()) md += fmt::format("Command: `{}`\n\n", context.command);
+
+  md += RateTargetTable(points, context);
+
+  md += "## Speed (median over each curve's points)\n\n";
+  md += "| curve | encode s | decode s | decoded vertex-frames / s | decode speed vs draco |\n";
+  md += "|---|---:|---:|---:|---:|\n";
+  std::map<std::string, double> median_decode;
+  for (const std::string& curve : curves) {
+    std::vector<double> decode;
+    for (const RdPoint& point : points) {
+      if (point.Curve() == curve) decode.push_back(point.decode_s);
+    }
+    median_decode[curve] = Median(decode);
+  }
+  for (const std::string& curve : curves) {
+    std::vector<double> encode;
+    for (const RdPoint& point : points) {
+      if (point.Curve() == curve) encode.push_back(point.encode_s);
+    }
+    const double decode = median_decode[curve];
+    const double vertex_frames = static_cast<double>(context.vertices) * context.frames;
+    const auto draco = median_decode.find("draco");
+    std::string ratio = "–";
+    if (draco != median_decode.end() && decode > 0.0) {
+      ratio = fmt::format("{:.2f}×", draco->second / decode);
+    }
+    md += fmt::format("| {} | {:.3f} | {:.3f} | {} | {} |\n", curve, Median(encode), decode,
+                      decode > 0.0 ? fmt::format("{:.3g}", vertex_frames / decode) : "–", ratio);
+  }
+  md +=
+      "\nWall-clock seconds on this machine, points run one at a time (each may use every "
+      "core). Baseline decode times include decompression, dequantisation and the vertex "
+      "renumbering back to input order.\n\n";
+
+  if (!context.warnings.empty()) {
+    md += "## Warnings\n\n";
+    for (const std::string& warning : context.warnings) md += "- " + warning + "\n";
+    md += "\n";
+  }
+
+  md += "## All points\n\n";
+  md +=
+      "| codec | operator | rank | basis bits | residual bits | anchors | bpfv | KG | STED | "
+      "encode s | decode s |\n";
+  md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const RdPoint& p : points) {
+    md += fmt::format(
+        "| {} | {} | {} | {} | {:.4g} | {} | {:.4g} | {:.4g} | {:.4g} | {:.3f} | "
+        "{:.3f} |\n",
+        p.codec, p.operator_name, OptionalInt(p.rank), OptionalInt(p.basis_bits), p.residual_bits,
+        OptionalInt(p.anchors), p.bpfv, p.kg, p.sted, p.encode_s, p.decode_s);
+  }
+  md +=
+      "\nFor dmc, residual bits = log2(bounding-box diagonal / residual step) and rank and "
+      "anchors are those of the first segment. For the baselines the residual-bits column holds "
+      "the position quantisation bits (draco: per frame over the frame's box; meshopt and zstd: "
+      "one cubic grid over the sequence's box).\n";
+  return md;
+}
+
+}  // namespace dmc::sweep

@@ -1,0 +1,51 @@
+// What `dmc sweep` writes: rd.csv, the two plots and summary.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dmc/metrics.h"
+#include "sweep/svg_plot.h"
+#include "sweep/sweep.h"
+
+namespace dmc::sweep {
+
+// The CSV header, exactly.
+inline constexpr const char* kRdCsvHeader =
+    "codec,operator,rank,basis_bits,residual_bits,anchors,bpfv,kg,sted,encode_s,decode_s";
+
+// rd.csv: the header, then one row per point in sweep order. Fields that do not apply (operator,
+// rank, basis_bits and anchors of a baseline) are empty; a baseline's residual_bits column holds
+// its position quantisation bits. Numbers use up to 6 significant digits (seconds 4 decimals).
+std::string RdCsv(const std::vector<RdPoint>& points);
+
+// The curves in the order they were swept ("dmc/<op>" first, then the baselines).
+std::vector<std::string> CurveNames(const std::vector<RdPoint>& points);
+
+enum class RdMetric { kSted, kKg };
+
+// The rate–distortion plot of one metric: bpfv on a log x axis, the metric on a log y axis, one
+// series per curve (baselines dashed).
+PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::string& subtitle);
+
+struct SummaryContext {
+  std::string input;    // what was swept, as given
+  std::string command;  // the command line, for reproduction
+  int vertices = 0;
+  int frames = 0;
+  StedOptions sted;
+  std::vector<double> sted_targets = {0.01, 0.02, 0.05};
+  std::string bd_anchor = "dmc/tutte";  // BD-rates are against this curve (when present)
+  std::vector<std::string> warnings;
+};
+
+// The "rate needed for a target STED" table of summary.md (Markdown, with its explanation).
+std::string RateTargetTable(const std::vector<RdPoint>& points, const SummaryContext& context);
+
+// summary.md: per curve the bpfv needed for each STED target (interpolated on the curve's
+// efficient points, log–log), the BD-rates in STED and in KG against the anchor curve, the speed,
+// then every point as a table. Cells that cannot be interpolated say why: "≤ r" when the cheapest
+// point already meets the target, "> r" when no point does.
+std::string SummaryMarkdown(const std::vector<RdPoint>& points, const SummaryContext& context);
+
+}  // namespace dmc::sweep

@@ -1,0 +1,95 @@
+// Rate–distortion sweeps: dmc at a ladder of rates for each Laplace operator, and the baseline
+// codecs (sweep/baselines.h) at a ladder of quantisations, every point encoded, decoded by the
+// real decoder and measured against the input with one DistortionMeter (so all curves share
+// exactly the same KG and STED).
+//
+// The dmc ladder varies the residual step: rung k of N uses
+//   residual_bits = min + k·(max − min)/(N − 1),  residual step = bbox diagonal · 2^−residual_bits
+// (fractional bits allowed), the rank following automatically through the encoder's rank
+// threshold and the basis precision through BasisBitsFor. On the real 10k-vertex captures the
+// default 5–16 bits spans about 0.35–8 bpfv (the low end is bounded by the connectivity, about
+// 0.3 bpfv for 30 frames). Baselines use the integer quantisation bits spread evenly over
+// [min_baseline_bits, max_baseline_bits] (duplicates removed).
+//
+// Timing: encode_s is the wall-clock time of Encode without its own measurement, decode_s that of
+// the decoder alone (for baselines: decompression, dequantisation and the vertex renumbering).
+// Points run one after another, so each may use every core (TBB inside the codec).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dmc/metrics.h"
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+#include "sweep/baselines.h"
+
+namespace dmc::sweep {
+
+// One encoded and measured point.
+struct RdPoint {
+  std::string codec;          // "dmc" or a baseline name
+  std::string operator_name;  // dmc: the Laplace operator; empty for baselines
+  int rank = -1;              // dmc: PCA rank of the first segment; -1 for baselines
+  int basis_bits = -1;        // dmc: basis quantisation bits; -1 for baselines
+  double residual_bits = 0;   // dmc: log2(diagonal / residual step); baselines: position bits
+  int anchors = -1;           // dmc: anchors of the first segment; -1 for baselines
+  uint64_t bytes = 0;
+  double bpfv = 0.0;
+  double kg = 0.0;
+  double sted = 0.0;
+  double encode_s = 0.0;
+  double decode_s = 0.0;
+
+  // The curve the point belongs to: "dmc/<operator>" or the baseline name.
+  std::string Curve() const;
+};
+
+struct SweepOptions {
+  // Codec operators to sweep, in this order. Operators the registry knows but the codec cannot
+  // use yet are skipped with a warning; unknown names are an error.
+  std::vector<std::string> operators = {"ddl", "tutte", "kirchhoff", "mean-value", "cotan"};
+  std::vector<BaselineKind> baselines = AllBaselines();
+  int points = 8;  // rungs per curve, ≥ 2
+  double min_residual_bits = 5.0;
+  double max_residual_bits = 16.0;
+  int basis_bits = 0;  // 0: follow the rung (BasisBitsFor), else fixed (2..16)
+  int min_baseline_bits = 8;
+  int max_baseline_bits = 16;
+  StedOptions sted;
+};
+
+// kInvalidArgument naming the first bad field: points < 2, residual bits outside [1, 30] or
+// min > max, basis_bits not 0 or in [2, 16], baseline bits outside [kMinBaselineBits,
+// kMaxBaselineBits] or min > max, no operator and no baseline, invalid STED options.
+Status ValidateSweepOptions(const SweepOptions& options);
+
+// The rungs of the dmc ladder (fractional bits, increasing).
+std::vector<double> ResidualBitsLadder(const SweepOptions& options);
+// The baseline quantisation bits (integers, increasing, distinct).
+std::vector<int> BaselineBitsLadder(const SweepOptions& options);
+// Basis bits for a rung when not fixed: clamp(round(residual_bits), 10, 16). Measured on samba:
+// below ~9 residual bits 10 basis bits cost nothing in STED; above, a coarser basis floors KG
+// (at 14 residual bits, 10 basis bits give KG 0.26 and 14 give 0.06 for 0.3 % more rate).
+int BasisBitsFor(double residual_bits, int fixed_basis_bits);
+
+struct SweepResult {
+  std::vector<RdPoint> points;        // in sweep order: operators' ladders, then baselines
+  std::vector<std::string> warnings;  // skipped operators, baselines or points, one sentence each
+};
+
+// Called after each point with the number of points done and the (current) total; the total
+// shrinks when a curve is skipped. `warning` is non-empty when the step produced one.
+using SweepCallback =
+    std::function<void(const RdPoint* point, const std::string& warning, int done, int total)>;
+
+// Runs the sweep on `sequence` (validated here). Fails on invalid options or input, on an unknown
+// operator (kNotFound) and when the metrics cannot be computed (kInvalidSequence: a degenerate
+// original). A point that fails to encode or decode is skipped with a warning, and a whole curve
+// is skipped when its codec cannot handle the input (kUnsupported).
+StatusOr<SweepResult> RunSweep(const MeshSequence& sequence, const SweepOptions& options,
+                               const SweepCallback& callback = {});
+
+}  // namespace dmc::sweep
