@@ -1,0 +1,133 @@
+// `dmc sweep` run as a user would: the four output files with the exact CSV columns, the JSON
+// report, and exit codes and messages for bad options.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli/cli_runner.h"
+#include "dmc/status.h"
+
+namespace dmc {
+namespace {
+
+using testing::FreshTempDir;
+using ::testing::HasSubstr;
+using testing::RunDmc;
+
+// Built with append: GCC 12 reports a false -Wrestrict on "'" + string + "'".
+std::string Quoted(const std::filesystem::path& path) {
+  std::string quoted = "'";
+  quoted.append(path.string()).push_back('\'');
+  return quoted;
+}
+
+std::string Slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+// A small walker written as OBJ frames by `dmc synth`.
+std::filesystem::path SmallWalker(const std::filesystem::path& dir) {
+  const std::filesystem::path input = dir / "walker";
+  const auto made = RunDmc("synth walker -o " + Quoted(input) + " --frames 6 --resolution 300");
+  EXPECT_EQ(made.exit_code, 0) << made.err;
+  return input;
+}
+
+TEST(SweepCliTest, WritesTheCsvThePlotsAndTheSummary) {
+  const auto dir = FreshTempDir("sweep");
+  const auto input = SmallWalker(dir);
+  const auto output = dir / "rd";
+  const auto result = RunDmc("sweep " + Quoted(input) + " -o " + Quoted(output) +
+                             " --operators tutte --baselines zstd,draco --points 2");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+
+  const std::string csv = Slurp(output / "rd.csv");
+  EXPECT_EQ(csv.rfind("codec,operator,rank,basis_bits,residual_bits,anchors,bpfv,kg,sted,"
+                      "encode_s,decode_s\n",
+                      0),
+            0u);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 2 + 2);
+  EXPECT_THAT(csv, HasSubstr("\ndmc,tutte,"));
+  EXPECT_THAT(csv, HasSubstr("\nzstd,,,,8,,"));
+  EXPECT_THAT(csv, HasSubstr("\ndraco,,,,16,,"));
+  for (const char* plot : {"rd_sted.svg", "rd_kg.svg"}) {
+    const std::string svg = Slurp(output / plot);
+    EXPECT_EQ(svg.rfind("<svg", 0), 0u) << plot;
+    EXPECT_EQ(std::count(svg.begin(), svg.end(), '\n') > 10, true) << plot;
+    EXPECT_THAT(svg, HasSubstr(">dmc/tutte</text>"));
+    EXPECT_THAT(svg, HasSubstr(">draco</text>"));
+  }
+  const std::string summary = Slurp(output / "summary.md");
+  EXPECT_THAT(summary, HasSubstr("## Rate needed for a target STED (bpfv)"));
+  EXPECT_THAT(summary, HasSubstr("| dmc/tutte |"));
+  EXPECT_THAT(summary, HasSubstr("BD-rate vs dmc/tutte"));
+  EXPECT_THAT(summary, HasSubstr("Command: `dmc sweep "));
+  // The text report ends with the same rate table and the files written.
+  EXPECT_THAT(result.out, HasSubstr("| zstd |"));
+  EXPECT_THAT(result.out, HasSubstr("rd_sted.svg"));
+}
+
+TEST(SweepCliTest, JsonListsEveryPoint) {
+  const auto dir = FreshTempDir("sweep");
+  const auto input = SmallWalker(dir);
+  const auto result = RunDmc("sweep " + Quoted(input) + " -o " + Quoted(dir / "rd") +
+                             " --operators tutte --baselines meshopt --points 3 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  ASSERT_EQ(report["points"].size(), 6u);
+  const nlohmann::json& first = report["points"][0];
+  EXPECT_EQ(first["codec"], "dmc");
+  EXPECT_EQ(first["operator"], "tutte");
+  EXPECT_GT(first["bpfv"].get<double>(), 0.0);
+  EXPECT_GT(first["sted"].get<double>(), 0.0);
+  const nlohmann::json& last = report["points"][5];
+  EXPECT_EQ(last["codec"], "meshopt");
+  EXPECT_TRUE(last["operator"].is_null());
+  EXPECT_TRUE(last["rank"].is_null());
+  EXPECT_EQ(last["residual_bits"], 16);
+  EXPECT_EQ(report["vertices"].get<int>() > 0, true);
+  EXPECT_TRUE(report["warnings"].empty());
+}
+
+TEST(SweepCliTest, BadOptionsFailBeforeReadingWithTheirCode) {
+  const auto dir = FreshTempDir("sweep");
+  const std::string missing_input = Quoted(dir / "no-such-input");
+  const std::string out = " -o " + Quoted(dir / "rd");
+  struct Case {
+    std::string options;
+    ErrorCode code;
+    std::string message;
+  };
+  for (const Case& c : {
+           Case{"--baselines gzip", ErrorCode::kInvalidArgument, "unknown baseline 'gzip'"},
+           Case{"--points 1", ErrorCode::kInvalidArgument, "--points"},
+           Case{"--operators none --baselines none", ErrorCode::kInvalidArgument,
+                "nothing to sweep"},
+           Case{"--min-baseline-bits 3", ErrorCode::kInvalidArgument, "baseline bits"},
+           Case{"--sted-targets 0.01,-1", ErrorCode::kInvalidArgument, "--sted-targets"},
+       }) {
+    const auto result = RunDmc("sweep " + missing_input + out + " " + c.options);
+    EXPECT_EQ(result.exit_code, ExitCodeFor(c.code)) << c.options << ": " << result.err;
+    EXPECT_THAT(result.err, HasSubstr(c.message)) << c.options;
+  }
+}
+
+TEST(SweepCliTest, UnknownOperatorIsNotFound) {
+  const auto dir = FreshTempDir("sweep");
+  const auto input = SmallWalker(dir);
+  const auto result =
+      RunDmc("sweep " + Quoted(input) + " -o " + Quoted(dir / "rd") + " --operators tutte,cotang");
+  EXPECT_EQ(result.exit_code, ExitCodeFor(ErrorCode::kNotFound)) << result.err;
+  EXPECT_THAT(result.err, HasSubstr("cotang"));
+}
+
+}  // namespace
+}  // namespace dmc
