@@ -14,6 +14,7 @@
 // invalid can change with the version). --check runs the runner's checks over DIR afterwards.
 #include <xxhash.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -133,7 +134,8 @@ Json OptionsJson(const EncoderOptions& o) {
           {"weight_bits", o.weight_bits},
           {"ddl_regularization", o.ddl_regularization},
           {"weight_prediction_uniform", o.weight_prediction_uniform},
-          {"allow_reorder", o.allow_reorder}};
+          {"allow_reorder", o.allow_reorder},
+          {"reference_bits", o.reference_bits}};
 }
 
 EncoderOptions Options(const std::string& operator_name) {
@@ -153,6 +155,7 @@ struct ValidVector {
   EncoderOptions options;
   int expected_connectivity_method;  // what the vector is meant to cover
   int minimum_segments = 1;
+  bool rank_zero = false;  // meant to cover a mean-only segment
 };
 
 std::vector<ValidVector> ValidVectors() {
@@ -193,7 +196,7 @@ std::vector<ValidVector> ValidVectors() {
   add("grid_isolated_indexed",
       "indexed connectivity (an isolated vertex Draco cannot code), two components, DDL",
       GridWithIsolatedVertex(10, 6), Options("ddl"), ConnectivityMethod::kIndexed);
-  add("static_rank_zero", "no motion: rank 0, mean trajectory only, DDL weights all predicted",
+  add("static_frames", "four identical frames: every trajectory is constant",
       StaticSynth("twist", 150, 4), Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
   {
     EncoderOptions options = Options("ddl");
@@ -202,9 +205,10 @@ std::vector<ValidVector> ValidVectors() {
     options.weight_bits = 2;
     options.anchors = 1;
     add("extreme_coarse",
-        "coarsest quantisers: 2 basis bits, residual step = diagonal / 2, "
-        "2 weight bits, one anchor",
+        "coarsest quantisers: 2 basis bits, residual step = diagonal / 2 (so rank 0: the mean "
+        "trajectory only, DDL weights all predicted), 2 weight bits, one anchor",
         Synth("blob", 150, 5), options, ConnectivityMethod::kDracoWithVertexOrder);
+    vectors.back().rank_zero = true;
   }
   {
     EncoderOptions options = Options("ddl");
@@ -219,6 +223,28 @@ std::vector<ValidVector> ValidVectors() {
         "finest quantisers: 16 basis bits, 2^-24 residual step, 20 weight bits, "
         "full rank 12, 40 anchors, uniform weight prediction",
         Synth("twist", 150, 4, 5), options, ConnectivityMethod::kDracoWithVertexOrder);
+  }
+  // The geometric operators rebuild their weights from a coded reference frame (spec §8.4, §9.5).
+  {
+    EncoderOptions options = Options("cotan");
+    options.reference_bits = 24;
+    add("twist_cotan_fine_reference", "cotangent operator, reference frame step 2^-24 D",
+        Synth("twist", 200, 6, 7), options, ConnectivityMethod::kDracoWithVertexOrder);
+  }
+  add("cloth_cotan_area_boundary", "area-normalised cotangent operator on a sheet with a boundary",
+      Synth("cloth", 200, 5, 8), Options("cotan-area"), ConnectivityMethod::kDracoWithVertexOrder);
+  {
+    EncoderOptions options = Options("cotan-sym");
+    options.allow_reorder = true;
+    add("walker_cotan_sym_reordered", "symmetric cotangent operator, six components, codec order",
+        Synth("walker", 300, 4, 9), options, ConnectivityMethod::kDracoReordered);
+  }
+  {
+    EncoderOptions options = Options("mean-value");
+    options.reference_bits = 4;
+    add("blob_mean_value_coarse_reference",
+        "mean value operator from a reference frame quantised on a coarse 2^-4 D grid",
+        Synth("blob", 150, 5, 10), options, ConnectivityMethod::kDracoWithVertexOrder);
   }
   return vectors;
 }
@@ -267,6 +293,10 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
   if (static_cast<int>(info.segments.size()) < vector.minimum_segments) {
     return InternalError(vector.name + ": " + std::to_string(info.segments.size()) +
                          " segment(s), meant to cover " + std::to_string(vector.minimum_segments));
+  }
+  if (vector.rank_zero && std::none_of(info.segments.begin(), info.segments.end(),
+                                       [](const SegmentInfo& s) { return s.rank == 0; })) {
+    return InternalError(vector.name + ": no rank-0 segment, meant to cover one");
   }
   DMC_RETURN_IF_ERROR(KeepOlderVersion(directory, vector.name));
 
@@ -429,7 +459,8 @@ void BaseAnchors(const Base& base, std::vector<int64_t>* indices,
   }
 }
 
-std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, const Base& walker) {
+std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, const Base& walker,
+                                          const Base& cotan) {
   std::vector<InvalidVector> out;
   const ErrorCode kCorrupt = ErrorCode::kCorruptStream;
   const ErrorCode kTruncated = ErrorCode::kTruncatedStream;
@@ -843,6 +874,37 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
                }),
         ErrorCode::kNumericalFailure, kOk);
   }
+
+  // --- Reference frame of a geometric operator (f64 step, then range-coded positions).
+  {
+    const std::vector<uint8_t>& reference = cotan.parsed.framed.chunks[kOperatorChunk].payload;
+    auto with_step = [&](double step) {
+      ByteWriter w;
+      w.PutF64(step);
+      std::vector<uint8_t> payload = w.Take();
+      payload.insert(payload.end(), reference.begin() + 8, reference.end());
+      return payload;
+    };
+    payload_vector("reference_step_nan", "reference frame step NaN", cotan, kOperatorChunk,
+                   with_step(std::nan("")), kCorrupt);
+    payload_vector("reference_step_zero", "reference frame step 0", cotan, kOperatorChunk,
+                   with_step(0.0), kCorrupt);
+    payload_vector("reference_payload_short", "operator payload of 5 bytes: no room for the step",
+                   cotan, kOperatorChunk, {0, 0, 0, 0, 0}, kTruncated);
+    payload_vector("reference_frame_truncated", "reference frame cut to the step and 6 coded bytes",
+                   cotan, kOperatorChunk, {reference.begin(), reference.begin() + 14}, kTruncated);
+    RangeEncoder encoder;
+    auto contexts = std::make_unique<format::ReferenceFrameContexts>();
+    encoder.EncodeSigned(contexts->without_neighbours[0], (int64_t{1} << 40) + 1);
+    ByteWriter w;
+    w.PutF64(1.0);
+    std::vector<uint8_t> payload = w.Take();
+    const std::vector<uint8_t> coded = encoder.Finish();
+    payload.insert(payload.end(), coded.begin(), coded.end());
+    payload_vector("reference_coordinate_out_of_range",
+                   "first reference coordinate 2^40 + 1 steps from its prediction", cotan,
+                   kOperatorChunk, payload, kCorrupt);
+  }
   return out;
 }
 
@@ -888,12 +950,34 @@ int Run(const fs::path& out, bool check) {
       ++failures;
     }
   };
-  for (const ValidVector& vector : ValidVectors()) report(GenerateValid(vector, valid_dir));
+  const std::vector<ValidVector> valid = ValidVectors();
+  // Generated valid vectors of this version that the list no longer holds are removed (older
+  // versions were renamed by KeepOlderVersion and stay; hand-added vectors are not marked).
+  for (const fs::path& manifest : FindManifests(valid_dir)) {
+    const StatusOr<std::vector<uint8_t>> bytes = ReadBytes(manifest);
+    if (!bytes.ok()) continue;
+    const Json json = Json::parse(bytes->begin(), bytes->end(), nullptr, false);
+    if (json.is_discarded() || !json.is_object() || !json.value("generated", false) ||
+        json.value("format_version", std::string()) != VersionText()) {
+      continue;
+    }
+    const std::string name = manifest.stem().string();
+    if (std::any_of(valid.begin(), valid.end(),
+                    [&](const ValidVector& v) { return v.name == name; })) {
+      continue;
+    }
+    fs::remove(manifest.parent_path() / json.value("stream", std::string()), error);
+    fs::remove(manifest.parent_path() / (name + ".ref.zst"), error);
+    fs::remove(manifest, error);
+    std::printf("removed %s (no longer generated)\n", name.c_str());
+  }
+  for (const ValidVector& vector : valid) report(GenerateValid(vector, valid_dir));
 
   StatusOr<Base> ddl = MakeBase("base_ddl", Synth("twist", 100, 3), Options("ddl"));
   StatusOr<Base> tutte = MakeBase("base_tutte", Synth("cloth", 100, 3), Options("tutte"));
   StatusOr<Base> walker = MakeBase("base_walker", Synth("walker", 100, 3), Options("ddl"));
-  for (const auto* base : {&ddl, &tutte, &walker}) {
+  StatusOr<Base> cotan = MakeBase("base_cotan", Synth("twist", 100, 3), Options("cotan"));
+  for (const auto* base : {&ddl, &tutte, &walker, &cotan}) {
     if (!base->ok()) {
       report(base->status());
       return 1;
@@ -910,10 +994,11 @@ int Run(const fs::path& out, bool check) {
     fs::remove(manifest.parent_path() / json.value("stream", std::string()), error);
     fs::remove(manifest, error);
   }
-  const std::vector<InvalidVector> invalid = InvalidVectors(*ddl, *tutte, *walker);
+  const std::vector<InvalidVector> invalid = InvalidVectors(*ddl, *tutte, *walker, *cotan);
   for (const InvalidVector& vector : invalid) report(GenerateInvalid(vector, invalid_dir));
-  std::printf("invalid %zu vectors from bases of %zu, %zu and %zu bytes\n", invalid.size(),
-              ddl->stream.size(), tutte->stream.size(), walker->stream.size());
+  std::printf("invalid %zu vectors from bases of %zu, %zu, %zu and %zu bytes\n", invalid.size(),
+              ddl->stream.size(), tutte->stream.size(), walker->stream.size(),
+              cotan->stream.size());
 
   if (check) {
     for (const fs::path& manifest : FindManifests(out)) {

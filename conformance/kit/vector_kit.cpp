@@ -308,7 +308,8 @@ StatusOr<SyntaxDigests> ComputeSyntaxDigests(std::span<const uint8_t> stream) {
     digests.connectivity = digest.Finish();
   }
   const int v_count = static_cast<int>(header.vertex_count);
-  for (const SegmentSyntax& syntax : parsed.segments) {
+  for (size_t segment = 0; segment < parsed.segments.size(); ++segment) {
+    const SegmentSyntax& syntax = parsed.segments[segment];
     const format::SegmentHeader& h = syntax.header;
     const int frames = static_cast<int>(h.frame_count);
     const int rank = static_cast<int>(h.rank);
@@ -336,6 +337,20 @@ StatusOr<SyntaxDigests> ComputeSyntaxDigests(std::span<const uint8_t> stream) {
       }
     }
     for (const int64_t weight : syntax.edge_weights) digest.Add(weight);
+    if (format::IsGeometricOperator(h.operator_id)) {
+      // The reference frame's step is the operator payload's leading f64 (spec §8.4).
+      const std::vector<uint8_t>& payload = parsed.framed.chunks[2 + 6 * segment + 3].payload;
+      if (payload.size() < 8) return TruncatedStreamError("reference frame step");
+      uint64_t step_bits = 0;
+      for (int i = 0; i < 8; ++i) step_bits |= uint64_t{payload[i]} << (8 * i);
+      const double step = std::bit_cast<double>(step_bits);
+      digest.AddDoubleBits(step);
+      for (int v = 0; v < v_count; ++v) {
+        for (int axis = 0; axis < 3; ++axis) {
+          digest.Add(QuantisationIndex(syntax.reference_frame(v, axis), step));
+        }
+      }
+    }
     for (const int32_t anchor : syntax.anchors) digest.Add(anchor);
     for (Eigen::Index a = 0; a < syntax.anchor_values.rows(); ++a) {
       for (int k = 0; k < rank; ++k) {
