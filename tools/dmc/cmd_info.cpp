@@ -1,11 +1,13 @@
 // dmc info: what a mesh sequence holds — sizes, topology, bounds, frame rate, warnings.
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <memory>
 #include <optional>
 
 #include "cli_util.h"
 #include "commands.h"
+#include "dmc/decoder.h"
 #include "dmc/io.h"
 #include "dmc/topology.h"
 
@@ -19,7 +21,76 @@ struct InfoArgs {
   bool json = false;
 };
 
+// A .dmc stream: container header, segments, operators, parameters and chunk sizes (parsed and
+// checksum-verified without decoding).
+int RunStreamInfo(const InfoArgs& args) {
+  auto bytes = ReadFileBytes(args.input);
+  if (!bytes.ok()) return ReportError("info", bytes.status(), args.json);
+  auto info = ReadStreamInfo(*bytes);
+  if (!info.ok()) return ReportError("info", info.status().WithContext(args.input), args.json);
+  const double value_count = static_cast<double>(info->frame_count) * info->vertex_count;
+  const auto bpfv = [&](uint64_t bytes_used) { return 8.0 * bytes_used / value_count; };
+  if (args.json) {
+    nlohmann::json segments = nlohmann::json::array();
+    for (const SegmentInfo& s : info->segments) {
+      segments.push_back({{"first_frame", s.first_frame},
+                          {"frames", s.frame_count},
+                          {"rank", s.rank},
+                          {"operator", s.operator_name},
+                          {"operator_id", s.operator_id},
+                          {"basis_bits", s.basis_bits},
+                          {"weight_bits", s.weight_bits},
+                          {"anchors", s.anchor_count},
+                          {"residual_step", s.residual_step},
+                          {"anchor_step", s.anchor_step},
+                          {"bytes",
+                           {{"header", s.header_bytes},
+                            {"mean", s.mean_bytes},
+                            {"basis", s.basis_bytes},
+                            {"operator", s.operator_bytes},
+                            {"anchors", s.anchor_bytes},
+                            {"residuals", s.residual_bytes}}}});
+    }
+    PrintJson({{"input", args.input},
+               {"format_version", fmt::format("{}.{}", info->version_major, info->version_minor)},
+               {"name", info->name},
+               {"vertices", info->vertex_count},
+               {"triangles", info->triangle_count},
+               {"frames", info->frame_count},
+               {"frame_rate", info->frame_rate > 0.0 ? nlohmann::json(info->frame_rate)
+                                                     : nlohmann::json(nullptr)},
+               {"reordered", info->reordered},
+               {"bytes", info->total_bytes},
+               {"bpfv", bpfv(info->total_bytes)},
+               {"header_bytes", info->header_bytes},
+               {"connectivity_bytes", info->connectivity_bytes},
+               {"segments", segments}});
+    return 0;
+  }
+  fmt::print(
+      "{}: dmc stream {}.{}, {} frame(s) of {} vertices, {} triangles, {} bytes ({:.4f} bpfv)\n",
+      args.input, info->version_major, info->version_minor, info->frame_count, info->vertex_count,
+      info->triangle_count, info->total_bytes, bpfv(info->total_bytes));
+  fmt::print("  name '{}', frame rate {}, vertex order {}\n", info->name,
+             info->frame_rate > 0.0 ? fmt::format("{} fps", info->frame_rate) : "unknown",
+             info->reordered ? "the codec's own" : "the input's");
+  fmt::print("  header {} B, connectivity {} B ({:.4f} bpfv)\n", info->header_bytes,
+             info->connectivity_bytes, bpfv(info->connectivity_bytes));
+  for (size_t i = 0; i < info->segments.size(); ++i) {
+    const SegmentInfo& s = info->segments[i];
+    fmt::print(
+        "  segment {}: frames {}..{}, operator {}, rank {}, {} anchors, basis {} bits, residual "
+        "step {:.4g}\n    bytes: header {}, mean {}, basis {}, operator {}, anchors {}, residuals "
+        "{}\n",
+        i, s.first_frame, s.first_frame + s.frame_count - 1, s.operator_name, s.rank,
+        s.anchor_count, s.basis_bits, s.residual_step, s.header_bytes, s.mean_bytes, s.basis_bytes,
+        s.operator_bytes, s.anchor_bytes, s.residual_bytes);
+  }
+  return 0;
+}
+
 int RunInfo(const InfoArgs& args) {
+  if (std::filesystem::path(args.input).extension() == ".dmc") return RunStreamInfo(args);
   ReadOptions options;
   options.connectivity = args.connectivity;
   options.max_frames = args.max_frames;
@@ -100,7 +171,7 @@ Command AddInfoCommand(CLI::App& parent) {
       "components, manifoldness, Euler characteristic, bounding box");
   app->add_option("input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
-                  "one mesh file, or a .pc2 cache")
+                  "one mesh file, a .pc2 cache, or a .dmc stream")
       ->required();
   app->add_option("--connectivity", args->connectivity,
                   "PC2 only: mesh file giving the triangles (default: <stem>.obj, .off or .ply "
