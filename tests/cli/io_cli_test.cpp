@@ -32,12 +32,9 @@ std::string TetrahedronFrame(int shift) {
   return text;
 }
 
-// The argument parser's own exit codes (status.h reserves 1; CLI11 currently returns 105/106)
-// must stay apart from 0 and from the codes of dmc's error classes, 10 + ErrorCode.
-bool IsUsageErrorExit(int code) {
-  return code != 0 && (code < ExitCodeFor(ErrorCode::kInvalidArgument) ||
-                       code > ExitCodeFor(ErrorCode::kInternal));
-}
+// Usage errors found by the argument parser exit 1 (status.h), apart from 0 and from the codes
+// of dmc's error classes, 10 + ErrorCode.
+bool IsUsageErrorExit(int code) { return code == 1; }
 
 // Two frames of a closed tetrahedron in `dir`/frames.
 std::filesystem::path MakeTetrahedronFrames(const std::filesystem::path& dir) {

@@ -105,10 +105,10 @@ TEST(SynthCliTest, ImpossibleOptionsAreInvalidArgumentsNamingTheOption) {
 
 TEST(SynthCliTest, UsageErrorsComeFromTheParser) {
   const auto missing_output = RunDmc("synth twist");
-  EXPECT_NE(missing_output.exit_code, 0);
+  EXPECT_EQ(missing_output.exit_code, 1);
   EXPECT_THAT(missing_output.err, HasSubstr("--output"));
   const auto not_a_number = RunDmc("synth twist -o x.pc2 --frames many");
-  EXPECT_NE(not_a_number.exit_code, 0);
+  EXPECT_EQ(not_a_number.exit_code, 1);
   EXPECT_THAT(not_a_number.err, HasSubstr("--frames"));
 }
 

@@ -19,7 +19,13 @@ int main(int argc, char** argv) {
   std::vector<dmc::cli::Command> commands;
   for (AddCommand add : table) commands.push_back(add(app));
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    // --help and --version exit 0; every usage error exits 1, the code status.h reserves for it
+    // (errors of the codec itself exit 10 + their ErrorCode).
+    return app.exit(error) == 0 ? 0 : 1;
+  }
   for (const auto& command : commands) {
     if (command.app->parsed()) return command.run();
   }
