@@ -30,9 +30,9 @@ struct EncoderOptions {
   int residual_bits = 10;          // residual step = bbox diagonal * 2^-residual_bits
   double residual_step = 0.0;      // absolute step; overrides residual_bits when > 0
   int anchors = -1;                // anchor vertices per segment; -1 = automatic
-  double anchor_step_ratio = 0.5;  // anchor quantisation step / residual step
+  double anchor_step_ratio = 1.0;  // anchor quantisation step / residual step
   int segment_frames = 0;          // maximum frames per segment; 0 = default
-  int reference_bits = 11;  // geometric operators: reference frame step = diagonal · 2^-bits
+  int reference_bits = 10;  // geometric operators: reference frame step = diagonal · 2^-bits
   int weight_bits = 7;      // DDL weight step 2^-weight_bits
   double ddl_regularization = 0.1;  // DDL Tikhonov pull toward Tutte (relative)
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
