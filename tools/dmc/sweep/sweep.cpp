@@ -30,8 +30,8 @@ StatusOr<RdPoint> RunDmcPoint(const MeshSequence& sequence, const DistortionMete
                               int basis_bits, double diagonal) {
   EncoderOptions options;
   options.operator_name = operator_name;
+  // Fractional bits through the absolute step (which overrides EncoderOptions::residual_bits).
   options.residual_step = diagonal * std::exp2(-residual_bits);
-  options.residual_bits = std::clamp(static_cast<int>(std::lround(residual_bits)), 1, 30);
   options.basis_bits = basis_bits;
   options.measure = false;  // measured below with the shared meter, outside the timing
   EncodeReport report;

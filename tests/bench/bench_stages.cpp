@@ -1,0 +1,365 @@
+// The codec stage by stage, on the synthetic walker at about 10k and 100k vertices × 60 frames
+// (one segment), with the encoder's default options (DDL, 10 residual bits, automatic rank,
+// 1 % anchors): what each stage costs in time, in vertex-frames per second and in peak memory;
+// then the full encode and decode next to per-frame Draco decoding of the same sequence at the
+// same STED (Draco at 11 bits, dmc's residual step matched to it), so the ratio is read in one
+// run.
+//
+//   dmc_bench --benchmark_filter='Stage|Full|Draco'
+//
+// Each stage runs the codec's own internal functions on the data the previous stages produced,
+// in the encoder's order (see codec/src/encoder/encoder.cpp, EncodeSegment):
+//   encoder: PCA (trajectory matrix + Gram eigen-decomposition), DDL fit, weight coding,
+//            residual quantisation + range coding;
+//   decoder: residual range decoding, operator rebuild, factorisation of the normal equations,
+//            solve for the r coefficient columns, basis multiply (coefficients × basisᵀ + mean,
+//            written as float frames).
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "bench/bench_support.h"
+#include "bitstream/format.h"
+#include "bitstream/syntax.h"
+#include "decoder/segment_reconstruction.h"
+#include "decoder/syntax_reader.h"
+#include "dmc/decoder.h"
+#include "dmc/encoder.h"
+#include "dmc/metrics.h"
+#include "dmc/operators.h"
+#include "encoder/segment_pca.h"
+#include "encoder/syntax_writer.h"
+
+namespace dmc::bench {
+namespace {
+
+constexpr int kStageFrames = 60;
+constexpr int kDracoBits = 11;  // Draco's STED is closest to dmc's default at 11 bits
+
+// Everything one segment's stages consume, computed once per resolution exactly as the encoder
+// does with its default options.
+struct StageFixture {
+  const MeshSequence* sequence = nullptr;
+  MeshTopology topology;
+  std::vector<int32_t> vertex_order;
+  Eigen::MatrixXd trajectories;
+  Eigen::MatrixXd coefficients;
+  LaplaceOperator fitted;   // the DDL fit, before weight quantisation
+  SegmentSyntax syntax;     // dequantised elements, as the decoder rebuilds them
+  LaplaceOperator laplace;  // rebuilt from the quantised weights
+  std::vector<uint8_t> residual_payload;
+};
+
+// Anchors as the encoder chooses them in number (1 % of the vertices, at least one per
+// component), spread by index rather than by farthest-point sampling: the solver's cost does
+// not depend on where they are.
+std::vector<int32_t> SpreadAnchors(const MeshTopology& topology) {
+  const int count = std::max(1, static_cast<int>(std::lround(0.01 * topology.vertex_count)));
+  std::vector<int32_t> anchors;
+  std::vector<uint8_t> anchored(topology.component_count, 0);
+  for (int a = 0; a < count; ++a) {
+    const int v = static_cast<int>(static_cast<int64_t>(a) * topology.vertex_count / count);
+    anchors.push_back(v);
+    anchored[topology.component_of_vertex[v]] = 1;
+  }
+  for (int v = 0; v < topology.vertex_count; ++v) {
+    if (!anchored[topology.component_of_vertex[v]]) {
+      anchored[topology.component_of_vertex[v]] = 1;
+      anchors.push_back(v);
+    }
+  }
+  std::sort(anchors.begin(), anchors.end());
+  return anchors;
+}
+
+const StageFixture& Fixture(int resolution) {
+  static std::map<int, std::unique_ptr<StageFixture>> cache;
+  auto& slot = cache[resolution];
+  if (slot) return *slot;
+  slot = std::make_unique<StageFixture>();
+  StageFixture& s = *slot;
+  const EncoderOptions defaults;
+  s.sequence = &Walker(resolution, kStageFrames);
+  const MeshSequence& sequence = *s.sequence;
+  const int v_count = sequence.vertex_count();
+  s.topology = BuildTopology(sequence.triangles(), v_count);
+  s.vertex_order = format::BreadthFirstOrder(s.topology);
+  s.trajectories = TrajectoryMatrix(sequence, 0, kStageFrames);
+  const TrajectoryPca pca = ComputeTrajectoryPca(s.trajectories);
+
+  const double diagonal = ComputeBoundingBox(sequence).diagonal();
+  const double step = std::ldexp(diagonal, -defaults.residual_bits);
+  const int max_rank = std::min(3 * kStageFrames, v_count - 1);
+  int rank = 0;
+  while (rank < max_rank && pca.eigenvalues[rank] > defaults.rank_threshold * v_count * step * step)
+    ++rank;
+  format::SegmentHeader& h = s.syntax.header;
+  h.frame_count = kStageFrames;
+  h.rank = static_cast<uint32_t>(rank);
+  h.operator_id = static_cast<uint8_t>(OperatorId::kDdl);
+  h.basis_bits = static_cast<uint8_t>(defaults.basis_bits);
+  h.weight_bits = static_cast<uint8_t>(defaults.weight_bits);
+  h.weight_prediction = static_cast<uint8_t>(format::WeightPrediction::kReferenceProportional);
+  h.mean_step = std::ldexp(diagonal, -18);
+  h.residual_step = step;
+  h.anchor_step = step * defaults.anchor_step_ratio;
+  s.syntax.anchors = SpreadAnchors(s.topology);
+  h.anchor_count = static_cast<uint32_t>(s.syntax.anchors.size());
+
+  syntax::WriteMean(pca.mean, h, &s.syntax.mean);
+  syntax::WriteBasis(pca.eigenvectors.leftCols(rank), h, &s.syntax.basis);
+  const Eigen::MatrixXd projected =
+      (s.trajectories.rowwise() - s.syntax.mean.transpose()) * s.syntax.basis;
+  s.coefficients =
+      (s.syntax.basis.transpose() * s.syntax.basis).ldlt().solve(projected.transpose()).transpose();
+  OperatorOptions operator_options;
+  operator_options.ddl.mu = defaults.ddl_regularization;
+  s.fitted = *FitDdlSymmetric(s.topology, SourceFromTrajectories(s.coefficients), operator_options);
+  syntax::WriteDdlWeights(s.fitted.weights.values, s.topology, defaults.weight_bits,
+                          format::WeightPrediction::kReferenceProportional, &s.syntax.edge_weights);
+  syntax::WriteAnchors(s.syntax.anchors, s.coefficients, h, &s.syntax.anchor_values);
+  s.laplace = *RebuildSegmentOperator(s.topology, s.syntax);
+  const Eigen::MatrixXd delta = s.laplace.matrix * s.coefficients;
+  s.residual_payload =
+      syntax::WriteResiduals(delta, s.topology, s.vertex_order, h, &s.syntax.delta);
+  return *slot;
+}
+
+void StageCounters(benchmark::State& state, const StageFixture& s, const PeakMemory& memory) {
+  SetVertexFrameCounters(state, *s.sequence);
+  state.counters["rank"] = static_cast<double>(s.syntax.header.rank);
+  memory.Report(state);
+}
+
+// --- encoder stages ----------------------------------------------------------------------------
+
+void BM_StagePca(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  PeakMemory memory;
+  for (auto _ : state) {
+    const Eigen::MatrixXd trajectories = TrajectoryMatrix(*s.sequence, 0, kStageFrames);
+    TrajectoryPca pca = ComputeTrajectoryPca(trajectories);
+    benchmark::DoNotOptimize(pca.eigenvalues.data());
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageDdlFit(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  OperatorOptions options;
+  options.ddl.mu = EncoderOptions().ddl_regularization;
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto fitted = FitDdlSymmetric(s.topology, SourceFromTrajectories(s.coefficients), options);
+    benchmark::DoNotOptimize(fitted);
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageWeightCoding(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  std::vector<int64_t> decoded;
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto payload =
+        syntax::WriteDdlWeights(s.fitted.weights.values, s.topology, s.syntax.header.weight_bits,
+                                format::WeightPrediction::kReferenceProportional, &decoded);
+    benchmark::DoNotOptimize(payload.data());
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageResidualCoding(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  const Eigen::MatrixXd delta = s.laplace.matrix * s.coefficients;
+  Eigen::MatrixXd decoded;
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto payload =
+        syntax::WriteResiduals(delta, s.topology, s.vertex_order, s.syntax.header, &decoded);
+    benchmark::DoNotOptimize(payload.data());
+  }
+  StageCounters(state, s, memory);
+  state.counters["residual_bpfv"] =
+      8.0 * static_cast<double>(s.residual_payload.size()) /
+      (static_cast<double>(s.sequence->vertex_count()) * kStageFrames);
+}
+
+// --- decoder stages ----------------------------------------------------------------------------
+
+void BM_StageResidualDecoding(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  SegmentSyntax syntax;
+  syntax.header = s.syntax.header;
+  PeakMemory memory;
+  for (auto _ : state) {
+    const Status status =
+        syntax::ReadResiduals(s.residual_payload, s.topology, s.vertex_order, syntax);
+    if (!status.ok()) state.SkipWithError(status.ToString().c_str());
+    benchmark::DoNotOptimize(syntax.delta.data());
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageOperatorRebuild(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto laplace = RebuildSegmentOperator(s.topology, s.syntax);
+    benchmark::DoNotOptimize(laplace);
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageFactorisation(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto solver = AnchoredLaplacianSolver::Create(s.topology, s.laplace.matrix, s.syntax.anchors,
+                                                  s.syntax.header.anchor_weight);
+    if (!solver.ok()) state.SkipWithError(solver.status().ToString().c_str());
+    benchmark::DoNotOptimize(solver);
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageSolve(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  auto solver = AnchoredLaplacianSolver::Create(s.topology, s.laplace.matrix, s.syntax.anchors,
+                                                s.syntax.header.anchor_weight);
+  if (!solver.ok()) {
+    state.SkipWithError(solver.status().ToString().c_str());
+    return;
+  }
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto coefficients = solver->Solve(s.syntax.delta, s.syntax.anchor_values);
+    benchmark::DoNotOptimize(coefficients);
+  }
+  StageCounters(state, s, memory);
+}
+
+void BM_StageBasisMultiply(benchmark::State& state) {
+  const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
+  std::vector<float> frames(static_cast<size_t>(s.sequence->vertex_count()) * kStageFrames * 3);
+  PeakMemory memory;
+  for (auto _ : state) {
+    SynthesizeFrames(s.syntax.mean, s.syntax.basis, s.coefficients, kStageFrames, frames.data());
+    benchmark::DoNotOptimize(frames.data());
+  }
+  StageCounters(state, s, memory);
+}
+
+// --- whole codec and the per-frame Draco reference ---------------------------------------------
+
+// The comparison at equal quality: per-frame Draco at kDracoBits, and dmc with its residual step
+// chosen so that its STED matches Draco's. STED is close to proportional to the residual step, so
+// one correction from the default (10 bits) lands within a few percent; both STEDs are reported.
+struct Comparison {
+  DracoFrames draco;
+  double draco_bpfv = 0.0;
+  double draco_sted = 0.0;
+  EncoderOptions options;  // dmc, matched
+  std::vector<uint8_t> bytes;
+  EncodeReport report;
+};
+const Comparison& Compared(int resolution) {
+  static std::map<int, std::unique_ptr<Comparison>> cache;
+  auto& slot = cache[resolution];
+  if (slot) return *slot;
+  slot = std::make_unique<Comparison>();
+  Comparison& c = *slot;
+  const MeshSequence& sequence = Walker(resolution, kStageFrames);
+  c.draco = DracoEncodeFrames(sequence, kDracoBits);
+  size_t draco_bytes = 0;
+  for (const auto& frame : c.draco.frames) draco_bytes += frame.size();
+  c.draco_bpfv = 8.0 * static_cast<double>(draco_bytes) /
+                 (static_cast<double>(sequence.vertex_count()) * sequence.frame_count());
+  c.draco_sted = DracoSted(sequence, c.draco);
+
+  EncodeReport first;
+  c.bytes = *Encode(sequence, c.options, &first);
+  if (c.draco_sted > 0.0 && first.distortion.sted > 0.0) {
+    const double bits = c.options.residual_bits + std::log2(first.distortion.sted / c.draco_sted);
+    c.options.residual_step = ComputeBoundingBox(sequence).diagonal() * std::exp2(-bits);
+    c.bytes = *Encode(sequence, c.options, &c.report);
+  } else {
+    c.report = first;
+  }
+  c.options.measure = false;
+  return c;
+}
+
+void ComparisonCounters(benchmark::State& state, const Comparison& c) {
+  state.counters["dmc_bpfv"] = c.report.bpfv;
+  state.counters["dmc_sted"] = c.report.distortion.sted;
+  state.counters["draco_bpfv"] = c.draco_bpfv;
+  state.counters["draco_sted"] = c.draco_sted;
+}
+
+void BM_FullEncode(benchmark::State& state) {
+  const int resolution = static_cast<int>(state.range(0));
+  const Comparison& c = Compared(resolution);
+  const MeshSequence& sequence = Walker(resolution, kStageFrames);
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto bytes = Encode(sequence, c.options);
+    if (!bytes.ok()) state.SkipWithError(bytes.status().ToString().c_str());
+    benchmark::DoNotOptimize(bytes);
+  }
+  SetVertexFrameCounters(state, sequence);
+  memory.Report(state);
+  ComparisonCounters(state, c);
+}
+
+void BM_FullDecode(benchmark::State& state) {
+  const int resolution = static_cast<int>(state.range(0));
+  const Comparison& c = Compared(resolution);
+  PeakMemory memory;
+  for (auto _ : state) {
+    auto decoded = Decode(c.bytes);
+    if (!decoded.ok()) state.SkipWithError(decoded.status().ToString().c_str());
+    benchmark::DoNotOptimize(decoded);
+  }
+  SetVertexFrameCounters(state, Walker(resolution, kStageFrames));
+  memory.Report(state);
+  ComparisonCounters(state, c);
+}
+
+void BM_DracoPerFrameDecode(benchmark::State& state) {
+  const int resolution = static_cast<int>(state.range(0));
+  const Comparison& c = Compared(resolution);
+  std::vector<float> positions;
+  PeakMemory memory;
+  for (auto _ : state) {
+    if (DracoDecodeFrames(c.draco.frames, positions) < 0) state.SkipWithError("Draco failed");
+    benchmark::DoNotOptimize(positions.data());
+  }
+  SetVertexFrameCounters(state, Walker(resolution, kStageFrames));
+  memory.Report(state);
+  ComparisonCounters(state, c);
+}
+
+#define DMC_STAGE_BENCHMARK(name) \
+  BENCHMARK(name)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime()
+
+DMC_STAGE_BENCHMARK(BM_StagePca);
+DMC_STAGE_BENCHMARK(BM_StageDdlFit);
+DMC_STAGE_BENCHMARK(BM_StageWeightCoding);
+DMC_STAGE_BENCHMARK(BM_StageResidualCoding);
+DMC_STAGE_BENCHMARK(BM_StageResidualDecoding);
+DMC_STAGE_BENCHMARK(BM_StageOperatorRebuild);
+DMC_STAGE_BENCHMARK(BM_StageFactorisation);
+DMC_STAGE_BENCHMARK(BM_StageSolve);
+DMC_STAGE_BENCHMARK(BM_StageBasisMultiply);
+DMC_STAGE_BENCHMARK(BM_FullEncode);
+DMC_STAGE_BENCHMARK(BM_FullDecode);
+DMC_STAGE_BENCHMARK(BM_DracoPerFrameDecode);
+
+}  // namespace
+}  // namespace dmc::bench
