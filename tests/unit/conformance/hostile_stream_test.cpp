@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <functional>
@@ -277,6 +278,32 @@ TEST(HostileStreams, OverflowingMeanStep_KnownDecoderGap) {
   } else {
     EXPECT_EQ(result.status().code(), ErrorCode::kCorruptStream) << result.status().ToString();
   }
+}
+
+TEST(HostileStreams, OverflowingReferenceFrameStep_KnownDecoderGap) {
+  // A geometric operator's reference frame (spec §8.4) with step DBL_MAX / 2: every coordinate
+  // index of magnitude >= 2 overflows to infinity. Spec §10.2: corrupt-stream (0.1 reports
+  // invalid-argument from the operator builder).
+  SynthOptions synth;
+  synth.resolution = 100;
+  synth.frames = 3;
+  const StatusOr<MeshSequence> sequence = Synthesize("twist", synth);
+  ASSERT_TRUE(sequence.ok());
+  EncoderOptions options;
+  options.measure = false;
+  options.operator_name = "cotan";
+  const StatusOr<std::vector<uint8_t>> stream = Encode(*sequence, options);
+  ASSERT_TRUE(stream.ok()) << stream.status().ToString();
+  std::vector<uint8_t> preamble;
+  std::vector<Chunk> chunks = SplitChunks(*stream, &preamble);
+  constexpr size_t kOperator = 5;
+  ASSERT_GE(chunks[kOperator].payload.size(), 8u);
+  ByteWriter step;
+  step.PutF64(DBL_MAX / 2);
+  std::copy(step.bytes().begin(), step.bytes().end(), chunks[kOperator].payload.begin());
+  const StatusOr<MeshSequence> result = Decode(JoinChunks(preamble, chunks));
+  ASSERT_FALSE(result.ok()) << "decoded a sequence from an infinite reference frame";
+  EXPECT_EQ(result.status().code(), ErrorCode::kCorruptStream) << result.status().ToString();
 }
 
 TEST(HostileStreams, DdlPredictionIsExactForLargeFans_KnownDecoderGap) {
