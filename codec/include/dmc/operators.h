@@ -205,7 +205,7 @@ std::string_view SolverBackendName(SolverBackend backend);
 
 // Fill-reducing ordering of the CHOLMOD backend (SimplicialLDLT always uses AMD).
 enum class SolverOrdering : uint8_t {
-  kAuto,   // nested dissection (METIS) from 5000 unknowns on, AMD below
+  kAuto,   // nested dissection (METIS) from 30000 unknowns on, AMD below
   kAmd,    // approximate minimum degree: cheapest analysis
   kMetis,  // nested dissection: less fill on large mesh-like graphs, costlier analysis
 };

@@ -36,8 +36,11 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lowe
 //   V = 10k:  AMD 0.008 + 0.145 + 0.116 s,  METIS 0.073 + 0.070 + 0.085 s,
 //             Eigen SimplicialLDLT 0.102 + 0.164 s;
 //   V = 100k: AMD 0.10 + 5.3 + 2.1 s,  METIS 0.95 + 2.1 + 1.4 s,  SimplicialLDLT 5.3 + 5.1 s.
-// Nested dissection pays for its analysis from a few thousand unknowns on.
-constexpr int kNestedDissectionThreshold = 5000;
+// With OpenBLAS (now installed) the factorisation is cheaper and METIS's analysis dominates at
+// 10k: a whole `dmc decode` of samba (9971 V, r = 19) takes 204-249 ms CPU with AMD against
+// 275-319 ms with METIS; at 50k (synthetic blob, tutte) the two are level (1.4-1.8 s each), and
+// at 100k METIS wins as above. Nested dissection from 30k unknowns on.
+constexpr int kNestedDissectionThreshold = 30000;
 
 int CholmodOrdering(SolverOrdering ordering, Eigen::Index size) {
   switch (ordering) {
@@ -115,7 +118,7 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
   impl->matrix = matrix;
   impl->matrix.makeCompressed();
   impl->options = options;
-  // kAuto: CHOLMOD (supernodal LLᵀ, METIS from 5000 unknowns): 0.23 s against 0.27 s for
+  // kAuto: CHOLMOD (supernodal LLᵀ, METIS from 30000 unknowns): 0.23 s against 0.27 s for
   // SimplicialLDLT on the 10k-vertex normal matrix with 64 right-hand sides, 4.4 s against 10.4 s
   // at 100k (numbers above; tests/bench/bench_operators.cpp re-measures them).
   impl->backend =
