@@ -10,6 +10,9 @@
 
 namespace dmc::format {
 
+// GCC/Clang's 128-bit integer; __extension__ keeps -Wpedantic quiet about it.
+__extension__ using Int128 = __int128;
+
 uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload) {
   return XXH32(payload.data(), payload.size(), chunk_type);
 }
@@ -100,9 +103,16 @@ int64_t PredictWeight(WeightPrediction mode, int64_t remaining, const MeshTopolo
                       std::span<const int32_t> unknown_edges) {
   const auto n = static_cast<int64_t>(unknown_edges.size());
   if (mode == WeightPrediction::kUniform) return RoundDiv(remaining, n);
-  int64_t total = 0;
+  // Exact in 128 bits: |remaining| < 2^47 and reference weights < 2^21, so no product overflows
+  // however large the fan (the spec defines the prediction in exact integers).
+  Int128 total = 0;
   for (int32_t e : unknown_edges) total += ReferenceWeight(topology, e);
-  return RoundDiv(remaining * ReferenceWeight(topology, unknown_edges[0]), total);
+  const Int128 numerator =
+      static_cast<Int128>(remaining) * ReferenceWeight(topology, unknown_edges[0]);
+  const Int128 a = 2 * numerator + total, b = 2 * total;
+  Int128 q = a / b;
+  if ((a % b != 0) && ((a < 0) != (b < 0))) --q;  // floor division
+  return static_cast<int64_t>(q);
 }
 
 int64_t RoundDiv(int64_t numerator, int64_t denominator) {

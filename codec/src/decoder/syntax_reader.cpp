@@ -13,9 +13,14 @@
 namespace dmc::syntax {
 namespace {
 
+// Steps and weights must be positive and at most 2^64 (anchor weights within [2^-32, 2^32]):
+// every dequantised value (an integer below 2^53 times a step) and every normal-matrix entry then
+// stays finite, so a hostile header cannot smuggle infinities into the solver.
+constexpr double kMaxStep = 18446744073709551616.0;  // 2^64
+
 Status CheckFinitePositive(double value, const char* field) {
-  if (!std::isfinite(value) || value <= 0.0) {
-    return CorruptStreamError(std::string(field) + " must be finite and positive, got " +
+  if (!std::isfinite(value) || value <= 0.0 || value > kMaxStep) {
+    return CorruptStreamError(std::string(field) + " must be positive and at most 2^64, got " +
                               std::to_string(value));
   }
   return Status::Ok();
@@ -143,6 +148,10 @@ StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> paylo
   DMC_RETURN_IF_ERROR(CheckFinitePositive(h.residual_step, "residual step"));
   DMC_RETURN_IF_ERROR(CheckFinitePositive(h.anchor_step, "anchor step"));
   DMC_RETURN_IF_ERROR(CheckFinitePositive(h.anchor_weight, "anchor weight"));
+  if (h.anchor_weight < 0x1p-32 || h.anchor_weight > 0x1p32) {
+    return CorruptStreamError("anchor weight must lie in [2^-32, 2^32], got " +
+                              std::to_string(h.anchor_weight));
+  }
   if (!reader.at_end()) return CorruptStreamError("segment header has trailing bytes");
   return h;
 }
