@@ -1,0 +1,54 @@
+// dmc laplacian through the built binary: the report's JSON keys, identities, exit codes.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/cli_runner.h"
+
+namespace dmc::testing {
+namespace {
+
+// Built by appending: `"'" + path.string()` trips GCC 12's false -Wrestrict positive.
+std::string Q(const std::filesystem::path& path) {
+  std::string out = "'";
+  out.append(path.string());
+  out.append("'");
+  return out;
+}
+
+TEST(LaplacianCli, ReportsTheIssueKeysForEveryOperator) {
+  const auto dir = FreshTempDir("laplacian_cli");
+  const auto input = dir / "blob.pc2";
+  ASSERT_EQ(RunDmc("synth blob -o " + Q(input) + " --frames 6 --resolution 400").exit_code, 0);
+  for (const char* op : {"kirchhoff", "tutte", "cotan", "mean-value", "ddl"}) {
+    const CliResult result =
+        RunDmc("laplacian " + Q(input) + " --operator " + op + " --rank 4 --json");
+    ASSERT_EQ(result.exit_code, 0) << op << ": " << result.err;
+    const auto report = nlohmann::json::parse(result.out);
+    for (const char* key :
+         {"operator", "symmetry_error", "max_row_sum", "negative_weight_share", "delta_mean",
+          "delta_max", "cholesky_ok", "conditioning_delta", "seconds"}) {
+      EXPECT_TRUE(report.contains(key)) << op << " lacks " << key;
+    }
+    EXPECT_EQ(report["operator"].get<std::string>(), op);
+    EXPECT_LT(report["max_row_sum"].get<double>(), 1e-9) << op;  // rows sum to zero
+  }
+  const auto kirchhoff =
+      nlohmann::json::parse(RunDmc("laplacian " + Q(input) + " --operator kirchhoff --json").out);
+  EXPECT_EQ(kirchhoff["symmetry_error"].get<double>(), 0.0);
+  EXPECT_TRUE(kirchhoff["cholesky_ok"].get<bool>());
+}
+
+TEST(LaplacianCli, UnknownOperatorAndBadOptionsHaveTheirExitCodes) {
+  const auto dir = FreshTempDir("laplacian_cli");
+  const auto input = dir / "blob.pc2";
+  ASSERT_EQ(RunDmc("synth blob -o " + Q(input) + " --frames 2 --resolution 300").exit_code, 0);
+  const CliResult unknown = RunDmc("laplacian " + Q(input) + " --operator nope");
+  EXPECT_EQ(unknown.exit_code, 20);
+  EXPECT_NE(unknown.err.find("cotan-area"), std::string::npos) << unknown.err;
+  EXPECT_EQ(RunDmc("laplacian " + Q(input) + " --operator ddl --mu -1").exit_code, 11);
+  EXPECT_EQ(RunDmc("laplacian " + Q(dir / "missing.pc2") + " --operator tutte").exit_code, 12);
+}
+
+}  // namespace
+}  // namespace dmc::testing
