@@ -63,6 +63,13 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
   bool have_format = false;
   while (true) {
     if (!lines.Next(line)) return ParseError("the header has no 'end_header' line");
+    // Control characters inside a header line (a stray '\r', say) are rejected here: OpenMesh's
+    // binary reader tokenises them differently from us and can loop forever on such a header.
+    for (const char c : line) {
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
+        return LineError(lines.line_number(), "control character in the PLY header");
+      }
+    }
     TokenReader tokens(line);
     std::string_view keyword, token;
     if (!tokens.Next(keyword)) continue;
