@@ -3,8 +3,9 @@
 // result or one of the error codes the spec allows for stream content — never a crash, another
 // code, non-finite output, or memory out of proportion with the stream's declared sizes.
 //
-// Tests named *_KnownDecoderGap document hostile inputs the reference decoder 0.1 does not yet
-// handle as the spec requires (spec Appendix B); they fail until the decoder is fixed.
+// The overflow cases (huge steps and weights, large fans) were found while writing the spec; the
+// decoder now bounds steps by 2^64 and anchor weights by [2^-32, 2^32] and predicts DDL weights
+// in 128-bit integers (spec §8.1, §8.4, §9.4).
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 
@@ -248,10 +249,9 @@ TEST(HostileStreams, ResidualsTruncatedAfterTheContainerAreTruncatedStream) {
   }
 }
 
-TEST(HostileStreams, HugeAnchorWeight_KnownDecoderGap) {
-  // anchor_weight = 1e300 is finite and positive, as §8.1 requires, but its square overflows:
-  // the normal matrix gets infinite entries. Spec §10.2: corrupt-stream (0.1 reports
-  // invalid-argument from the sparse solver).
+TEST(HostileStreams, HugeAnchorWeightIsHandled) {
+  // anchor_weight = 1e300 is finite and positive but its square overflows, which would put
+  // infinite entries in the normal matrix: §8.1 bounds it to [2^-32, 2^32] (corrupt-stream).
   const std::vector<uint8_t> stream =
       WithSegmentHeader([](format::SegmentHeader& h) { h.anchor_weight = 1e300; });
   const StatusOr<MeshSequence> result = Decode(stream);
@@ -259,8 +259,8 @@ TEST(HostileStreams, HugeAnchorWeight_KnownDecoderGap) {
   EXPECT_EQ(result.status().code(), ErrorCode::kCorruptStream) << result.status().ToString();
 }
 
-TEST(HostileStreams, OverflowingResidualStep_KnownDecoderGap) {
-  // Every non-zero residual index times DBL_MAX / 2 is infinite.
+TEST(HostileStreams, OverflowingResidualStepIsHandled) {
+  // Every non-zero residual index times DBL_MAX / 2 is infinite: §8.1 bounds steps by 2^64.
   const std::vector<uint8_t> stream =
       WithSegmentHeader([](format::SegmentHeader& h) { h.residual_step = DBL_MAX / 2; });
   const StatusOr<MeshSequence> result = Decode(stream);
@@ -268,8 +268,8 @@ TEST(HostileStreams, OverflowingResidualStep_KnownDecoderGap) {
   EXPECT_EQ(result.status().code(), ErrorCode::kCorruptStream) << result.status().ToString();
 }
 
-TEST(HostileStreams, OverflowingMeanStep_KnownDecoderGap) {
-  // The mean trajectory's indices times DBL_MAX / 2 overflow: 0.1 returns infinite positions.
+TEST(HostileStreams, OverflowingMeanStepIsHandled) {
+  // The mean trajectory's indices times DBL_MAX / 2 would overflow to infinite positions.
   const std::vector<uint8_t> stream =
       WithSegmentHeader([](format::SegmentHeader& h) { h.mean_step = DBL_MAX / 2; });
   const StatusOr<MeshSequence> result = Decode(stream);
@@ -280,10 +280,9 @@ TEST(HostileStreams, OverflowingMeanStep_KnownDecoderGap) {
   }
 }
 
-TEST(HostileStreams, OverflowingReferenceFrameStep_KnownDecoderGap) {
+TEST(HostileStreams, OverflowingReferenceFrameStepIsHandled) {
   // A geometric operator's reference frame (spec §8.4) with step DBL_MAX / 2: every coordinate
-  // index of magnitude >= 2 overflows to infinity. Spec §10.2: corrupt-stream (0.1 reports
-  // invalid-argument from the operator builder).
+  // index of magnitude >= 2 would overflow to infinity; the step is bounded by 2^64.
   SynthOptions synth;
   synth.resolution = 100;
   synth.frames = 3;
@@ -306,7 +305,7 @@ TEST(HostileStreams, OverflowingReferenceFrameStep_KnownDecoderGap) {
   EXPECT_EQ(result.status().code(), ErrorCode::kCorruptStream) << result.status().ToString();
 }
 
-TEST(HostileStreams, DdlPredictionIsExactForLargeFans_KnownDecoderGap) {
+TEST(HostileStreams, DdlPredictionIsExactForLargeFans) {
   // §9.4 defines the prediction in exact integers. A fan of 2^17 triangles around vertex 0 with
   // DDL weights at their limit (256 · 2^20 each, reachable with weight_bits = 20) makes the known
   // sum R about -2^45 (all but two of vertex 0's edges known); R · RW(e) then exceeds 2^63 in
