@@ -3,6 +3,7 @@
 // the same metrics; writes rd.csv, rd_sted.svg, rd_kg.svg and summary.md.
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
