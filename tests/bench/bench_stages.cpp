@@ -90,7 +90,7 @@ const StageFixture& Fixture(int resolution) {
   s.topology = BuildTopology(sequence.triangles(), v_count);
   s.vertex_order = format::BreadthFirstOrder(s.topology);
   s.trajectories = TrajectoryMatrix(sequence, 0, kStageFrames);
-  const TrajectoryPca pca = ComputeTrajectoryPca(s.trajectories);
+  const SegmentPca pca = ComputeSegmentPca(s.trajectories);
 
   const double diagonal = ComputeBoundingBox(sequence).diagonal();
   const double step = std::ldexp(diagonal, -defaults.residual_bits);
@@ -143,7 +143,7 @@ void BM_StagePca(benchmark::State& state) {
   PeakMemory memory;
   for (auto _ : state) {
     const Eigen::MatrixXd trajectories = TrajectoryMatrix(*s.sequence, 0, kStageFrames);
-    TrajectoryPca pca = ComputeTrajectoryPca(trajectories);
+    SegmentPca pca = ComputeSegmentPca(trajectories);
     benchmark::DoNotOptimize(pca.eigenvalues.data());
   }
   StageCounters(state, s, memory);

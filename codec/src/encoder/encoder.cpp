@@ -159,7 +159,7 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
   const int v_count = sequence.vertex_count();
   const Eigen::MatrixXd trajectories =
       TrajectoryMatrix(sequence, first_frame, frame_count, relabel);
-  const TrajectoryPca pca = ComputeTrajectoryPca(trajectories);
+  const SegmentPca pca = ComputeSegmentPca(trajectories);
 
   SegmentSyntax syntax;
   format::SegmentHeader& h = syntax.header;

@@ -24,8 +24,8 @@ Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, 
   return x;
 }
 
-TrajectoryPca ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories) {
-  TrajectoryPca pca;
+SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories) {
+  SegmentPca pca;
   const Eigen::Index rows = trajectories.rows(), cols = trajectories.cols();
   pca.mean = trajectories.colwise().mean().transpose();
   // Gram matrix over fixed blocks of rows, each computed independently, then summed in block

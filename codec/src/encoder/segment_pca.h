@@ -17,13 +17,13 @@ namespace dmc {
 Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count,
                                  const std::vector<int32_t>& relabel = {});
 
-struct TrajectoryPca {
+struct SegmentPca {
   Eigen::VectorXd mean;          // 3F: mean over vertices of the trajectories
   Eigen::VectorXd eigenvalues;   // descending, ≥ 0: squared singular values of the centred data
   Eigen::MatrixXd eigenvectors;  // 3F × 3F, columns in the order of eigenvalues
 };
 
 // Deterministic for any thread count (the Gram matrix is summed over fixed row blocks in order).
-TrajectoryPca ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories);
+SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories);
 
 }  // namespace dmc
