@@ -35,8 +35,8 @@ inline CliResult RunDmc(const std::string& args) {
                            std::to_string(reinterpret_cast<uintptr_t>(&args));
   const auto out_path = dir / (stem + ".out");
   const auto err_path = dir / (stem + ".err");
-  const std::string command = std::string(DMC_CLI_PATH) + " " + args + " >" + out_path.string() +
-                              " 2>" + err_path.string();
+  const std::string command =
+      std::string(DMC_CLI_PATH) + " " + args + " >" + out_path.string() + " 2>" + err_path.string();
   const int raw = std::system(command.c_str());
   CliResult result;
   result.exit_code = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
