@@ -323,6 +323,9 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
       }
       syntax.delta(v, k) = static_cast<double>(q[v]) * syntax.header.residual_step;
     }
+    // Stop at the first column that ran past the payload: a tiny stream declaring a huge mesh
+    // is reported at once instead of after decoding V × r virtual symbols.
+    DMC_RETURN_IF_ERROR(decoder.CheckNotOverrun("residual chunk"));
   }
   return decoder.CheckNotOverrun("residual chunk");
 }
