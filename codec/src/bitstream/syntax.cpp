@@ -128,6 +128,20 @@ int ResidualColumnGroup(int column) {
   return std::min(16 + (column - 16) / 16, kResidualColumnGroups - 1);
 }
 
+int ResidualNeighbourBucket(const MeshTopology& topology, const std::vector<int32_t>& position,
+                            const std::vector<int64_t>& q, int v, int i) {
+  int64_t abs_sum = 0;
+  int coded = 0;
+  for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
+    const int n = topology.ring_neighbors[r];
+    if (position[n] < i) {
+      abs_sum += q[n] < 0 ? -q[n] : q[n];
+      ++coded;
+    }
+  }
+  return ResidualActivityBucket(abs_sum, coded);
+}
+
 int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours) {
   if (coded_neighbours == 0 || abs_sum == 0) return 0;
   const int64_t mean = (2 * abs_sum + coded_neighbours) / (2 * coded_neighbours);

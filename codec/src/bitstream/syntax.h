@@ -59,6 +59,11 @@ int ResidualColumnGroup(int column);
 // the rounded mean absolute value ((2*sum + n) / (2n)) + 1).
 int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours);
 
+// Activity bucket of vertex `v`, the i-th in coding order, from the |q| of its one-ring neighbours
+// already coded in this column (position[n] < i). Both sides call this, so contexts always agree.
+int ResidualNeighbourBucket(const MeshTopology& topology, const std::vector<int32_t>& position,
+                            const std::vector<int64_t>& q, int v, int i);
+
 struct ResidualContexts {
   IntegerContexts sets[kResidualColumnGroups][kResidualActivityBuckets];
 };

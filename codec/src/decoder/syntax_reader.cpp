@@ -307,16 +307,8 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
     const int group = format::ResidualColumnGroup(k);
     for (int i = 0; i < v_count; ++i) {
       const int v = vertex_order[i];
-      int64_t abs_sum = 0;
-      int coded = 0;
-      for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
-        const int n = topology.ring_neighbors[r];
-        if (position[n] < i) {
-          abs_sum += q[n] < 0 ? -q[n] : q[n];
-          ++coded;
-        }
-      }
-      IntegerContexts& ctx = contexts->sets[group][format::ResidualActivityBucket(abs_sum, coded)];
+      IntegerContexts& ctx =
+          contexts->sets[group][format::ResidualNeighbourBucket(topology, position, q, v, i)];
       DMC_RETURN_IF_ERROR(decoder.DecodeSigned(ctx, &q[v]));
       if (q[v] > (int64_t{1} << 40) || q[v] < -(int64_t{1} << 40)) {
         return CorruptStreamError("residual out of range");

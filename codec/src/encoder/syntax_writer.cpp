@@ -222,18 +222,10 @@ std::vector<uint8_t> WriteResiduals(const Eigen::MatrixXd& delta, const MeshTopo
     const int group = format::ResidualColumnGroup(k);
     for (int i = 0; i < v_count; ++i) {
       const int v = vertex_order[i];
-      int64_t abs_sum = 0;
-      int coded = 0;
-      for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
-        const int n = topology.ring_neighbors[r];
-        if (position[n] < i) {
-          abs_sum += std::llabs(q[n]);
-          ++coded;
-        }
-      }
       q[v] = std::llround(delta(v, k) / header.residual_step);
-      encoder.EncodeSigned(contexts->sets[group][format::ResidualActivityBucket(abs_sum, coded)],
-                           q[v]);
+      encoder.EncodeSigned(
+          contexts->sets[group][format::ResidualNeighbourBucket(topology, position, q, v, i)],
+          q[v]);
       (*decoded)(v, k) = static_cast<double>(q[v]) * header.residual_step;
     }
   }
