@@ -28,6 +28,14 @@ inline std::filesystem::path FreshTempDir(const std::string& tag) {
   return dir;
 }
 
+// `path` in single quotes for RunDmc's shell command line. Built by appending: the shorter
+// `"'" + path.string() + "'"` trips GCC 12's false -Wrestrict positive under -Werror.
+inline std::string Quoted(const std::filesystem::path& path) {
+  std::string quoted = "'";
+  quoted.append(path.string()).push_back('\'');
+  return quoted;
+}
+
 // Runs `dmc <args>` through the shell (args are passed verbatim; quote paths with spaces).
 inline CliResult RunDmc(const std::string& args) {
   const auto dir = std::filesystem::temp_directory_path();

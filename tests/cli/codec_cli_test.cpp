@@ -11,20 +11,13 @@
 namespace dmc::testing {
 namespace {
 
-// Built by appending: `"'" + path.string()` trips GCC 12's false -Wrestrict positive.
-std::string Q(const std::filesystem::path& path) {
-  std::string out = "'";
-  out.append(path.string());
-  out.append("'");
-  return out;
-}
-
 class CodecCli : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = FreshTempDir("codec_cli");
     input_ = dir_ / "blob.pc2";
-    const CliResult made = RunDmc("synth blob -o " + Q(input_) + " --frames 12 --resolution 600");
+    const CliResult made =
+        RunDmc("synth blob -o " + Quoted(input_) + " --frames 12 --resolution 600");
     ASSERT_EQ(made.exit_code, 0) << made.err;
   }
   std::filesystem::path dir_, input_;
@@ -32,7 +25,8 @@ class CodecCli : public ::testing::Test {
 
 TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
   const auto stream = dir_ / "blob.dmc";
-  const CliResult encoded = RunDmc("encode " + Q(input_) + " -o " + Q(stream) + " --json");
+  const CliResult encoded =
+      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --json");
   ASSERT_EQ(encoded.exit_code, 0) << encoded.err;
   const auto json = nlohmann::json::parse(encoded.out);
   for (const char* key :
@@ -46,7 +40,7 @@ TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
     breakdown_total += bytes.get<uint64_t>();
   EXPECT_EQ(breakdown_total, json["bytes"].get<uint64_t>());
 
-  const CliResult info = RunDmc("info " + Q(stream) + " --json");
+  const CliResult info = RunDmc("info " + Quoted(stream) + " --json");
   ASSERT_EQ(info.exit_code, 0) << info.err;
   const auto stream_info = nlohmann::json::parse(info.out);
   EXPECT_EQ(stream_info["bytes"].get<uint64_t>(), json["bytes"].get<uint64_t>());
@@ -55,9 +49,9 @@ TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
   EXPECT_EQ(stream_info["segments"][0]["rank"].get<int>(), json["rank"].get<int>());
 
   const auto decoded = dir_ / "decoded.pc2";
-  const CliResult decode = RunDmc("decode " + Q(stream) + " -o " + Q(decoded));
+  const CliResult decode = RunDmc("decode " + Quoted(stream) + " -o " + Quoted(decoded));
   ASSERT_EQ(decode.exit_code, 0) << decode.err;
-  const CliResult metrics = RunDmc("metrics " + Q(input_) + " " + Q(decoded) + " --json");
+  const CliResult metrics = RunDmc("metrics " + Quoted(input_) + " " + Quoted(decoded) + " --json");
   ASSERT_EQ(metrics.exit_code, 0) << metrics.err;
   const auto measured = nlohmann::json::parse(metrics.out);
   // The encoder's reported distortion is that of the decoded file (up to float32 storage).
@@ -67,24 +61,29 @@ TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
 
 TEST_F(CodecCli, BadOptionsAndDamagedStreamsGiveDistinctExitCodes) {
   const auto stream = dir_ / "blob.dmc";
-  EXPECT_EQ(RunDmc("encode " + Q(input_) + " -o " + Q(stream) + " --basis-bits 1").exit_code, 11);
-  const CliResult unknown = RunDmc("encode " + Q(input_) + " -o " + Q(stream) + " --operator nope");
+  EXPECT_EQ(
+      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --basis-bits 1").exit_code,
+      11);
+  const CliResult unknown =
+      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --operator nope");
   EXPECT_EQ(unknown.exit_code, 20);
   EXPECT_NE(unknown.err.find("ddl"), std::string::npos) << unknown.err;  // lists what exists
   EXPECT_FALSE(std::filesystem::exists(stream));
 
-  ASSERT_EQ(RunDmc("encode " + Q(input_) + " -o " + Q(stream) + " --no-measure").exit_code, 0);
+  ASSERT_EQ(
+      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --no-measure").exit_code, 0);
   std::ifstream in(stream, std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
   const auto truncated = dir_ / "truncated.dmc";
   std::ofstream(truncated, std::ios::binary).write(bytes.data(), bytes.size() / 2);
-  const CliResult short_read = RunDmc("decode " + Q(truncated) + " -o " + Q(dir_ / "t.pc2"));
+  const CliResult short_read =
+      RunDmc("decode " + Quoted(truncated) + " -o " + Quoted(dir_ / "t.pc2"));
   EXPECT_EQ(short_read.exit_code, 18) << short_read.err;
   auto corrupt_bytes = bytes;
   corrupt_bytes[corrupt_bytes.size() / 2] ^= 0x40;
   const auto corrupt = dir_ / "corrupt.dmc";
   std::ofstream(corrupt, std::ios::binary).write(corrupt_bytes.data(), corrupt_bytes.size());
-  const CliResult damaged = RunDmc("decode " + Q(corrupt) + " -o " + Q(dir_ / "c.pc2"));
+  const CliResult damaged = RunDmc("decode " + Quoted(corrupt) + " -o " + Quoted(dir_ / "c.pc2"));
   EXPECT_EQ(damaged.exit_code, 17) << damaged.err;
   EXPECT_NE(damaged.err.find("checksum"), std::string::npos) << damaged.err;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "c.pc2"));
@@ -93,11 +92,11 @@ TEST_F(CodecCli, BadOptionsAndDamagedStreamsGiveDistinctExitCodes) {
 TEST_F(CodecCli, TargetRateIsMetAndReorderingIsOptIn) {
   const auto stream = dir_ / "target.dmc";
   const CliResult target =
-      RunDmc("encode " + Q(input_) + " -o " + Q(stream) + " --target-bpfv 3 --json");
+      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --target-bpfv 3 --json");
   ASSERT_EQ(target.exit_code, 0) << target.err;
   EXPECT_LE(nlohmann::json::parse(target.out)["bpfv"].get<double>(), 3.0);
   const CliResult reordered =
-      RunDmc("encode " + Q(input_) + " -o " + Q(stream) + " --allow-reorder --json");
+      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --allow-reorder --json");
   ASSERT_EQ(reordered.exit_code, 0) << reordered.err;
   EXPECT_GT(nlohmann::json::parse(reordered.out)["sted"].get<double>(), 0.0);
 }

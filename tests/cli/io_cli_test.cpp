@@ -17,6 +17,7 @@ namespace {
 
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
+using testing::Quoted;
 using testing::RunDmc;
 
 void Write(const std::filesystem::path& path, const std::string& text) {
@@ -41,13 +42,6 @@ std::filesystem::path MakeTetrahedronFrames(const std::filesystem::path& dir) {
   Write(dir / "frames" / "t_1.obj", TetrahedronFrame(0));
   Write(dir / "frames" / "t_2.obj", TetrahedronFrame(2));
   return dir / "frames";
-}
-
-std::string Quoted(const std::filesystem::path& path) {
-  std::string quoted = "'";
-  quoted += path.string();
-  quoted += "'";
-  return quoted;
 }
 
 TEST(InfoCliTest, DescribesASequenceAsJson) {

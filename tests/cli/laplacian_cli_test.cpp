@@ -8,21 +8,13 @@
 namespace dmc::testing {
 namespace {
 
-// Built by appending: `"'" + path.string()` trips GCC 12's false -Wrestrict positive.
-std::string Q(const std::filesystem::path& path) {
-  std::string out = "'";
-  out.append(path.string());
-  out.append("'");
-  return out;
-}
-
 TEST(LaplacianCli, ReportsTheIssueKeysForEveryOperator) {
   const auto dir = FreshTempDir("laplacian_cli");
   const auto input = dir / "blob.pc2";
-  ASSERT_EQ(RunDmc("synth blob -o " + Q(input) + " --frames 6 --resolution 400").exit_code, 0);
+  ASSERT_EQ(RunDmc("synth blob -o " + Quoted(input) + " --frames 6 --resolution 400").exit_code, 0);
   for (const char* op : {"kirchhoff", "tutte", "cotan", "mean-value", "ddl"}) {
     const CliResult result =
-        RunDmc("laplacian " + Q(input) + " --operator " + op + " --rank 4 --json");
+        RunDmc("laplacian " + Quoted(input) + " --operator " + op + " --rank 4 --json");
     ASSERT_EQ(result.exit_code, 0) << op << ": " << result.err;
     const auto report = nlohmann::json::parse(result.out);
     for (const char* key :
@@ -33,8 +25,8 @@ TEST(LaplacianCli, ReportsTheIssueKeysForEveryOperator) {
     EXPECT_EQ(report["operator"].get<std::string>(), op);
     EXPECT_LT(report["max_row_sum"].get<double>(), 1e-9) << op;  // rows sum to zero
   }
-  const auto kirchhoff =
-      nlohmann::json::parse(RunDmc("laplacian " + Q(input) + " --operator kirchhoff --json").out);
+  const auto kirchhoff = nlohmann::json::parse(
+      RunDmc("laplacian " + Quoted(input) + " --operator kirchhoff --json").out);
   EXPECT_EQ(kirchhoff["symmetry_error"].get<double>(), 0.0);
   EXPECT_TRUE(kirchhoff["cholesky_ok"].get<bool>());
 }
@@ -42,12 +34,12 @@ TEST(LaplacianCli, ReportsTheIssueKeysForEveryOperator) {
 TEST(LaplacianCli, UnknownOperatorAndBadOptionsHaveTheirExitCodes) {
   const auto dir = FreshTempDir("laplacian_cli");
   const auto input = dir / "blob.pc2";
-  ASSERT_EQ(RunDmc("synth blob -o " + Q(input) + " --frames 2 --resolution 300").exit_code, 0);
-  const CliResult unknown = RunDmc("laplacian " + Q(input) + " --operator nope");
+  ASSERT_EQ(RunDmc("synth blob -o " + Quoted(input) + " --frames 2 --resolution 300").exit_code, 0);
+  const CliResult unknown = RunDmc("laplacian " + Quoted(input) + " --operator nope");
   EXPECT_EQ(unknown.exit_code, 20);
   EXPECT_NE(unknown.err.find("cotan-area"), std::string::npos) << unknown.err;
-  EXPECT_EQ(RunDmc("laplacian " + Q(input) + " --operator ddl --mu -1").exit_code, 11);
-  EXPECT_EQ(RunDmc("laplacian " + Q(dir / "missing.pc2") + " --operator tutte").exit_code, 12);
+  EXPECT_EQ(RunDmc("laplacian " + Quoted(input) + " --operator ddl --mu -1").exit_code, 11);
+  EXPECT_EQ(RunDmc("laplacian " + Quoted(dir / "missing.pc2") + " --operator tutte").exit_code, 12);
 }
 
 }  // namespace

@@ -18,14 +18,8 @@ namespace {
 
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
+using testing::Quoted;
 using testing::RunDmc;
-
-// Built with append: GCC 12 reports a false -Wrestrict on "'" + string + "'".
-std::string Quoted(const std::filesystem::path& path) {
-  std::string quoted = "'";
-  quoted.append(path.string()).push_back('\'');
-  return quoted;
-}
 
 // One OBJ frame of the tetrahedron (0,0,0), (4,0,0), (0,4,0), (0,0,4) moved by (dx, 0, 0), with
 // vertex 0 replaced by `first` when given.

@@ -17,14 +17,8 @@ namespace {
 
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
+using testing::Quoted;
 using testing::RunDmc;
-
-// Built with append: GCC 12 reports a false -Wrestrict on "'" + string + "'".
-std::string Quoted(const std::filesystem::path& path) {
-  std::string quoted = "'";
-  quoted.append(path.string()).push_back('\'');
-  return quoted;
-}
 
 std::string Slurp(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -18,15 +18,8 @@ namespace {
 
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
+using testing::Quoted;
 using testing::RunDmc;
-
-// Built by appending: `"'" + path.string()` trips GCC 12's false -Wrestrict positive.
-std::string Quoted(const std::filesystem::path& path) {
-  std::string quoted = "'";
-  quoted += path.string();
-  quoted += '\'';
-  return quoted;
-}
 
 std::string Slurp(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
