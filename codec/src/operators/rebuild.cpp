@@ -6,27 +6,13 @@
 namespace dmc {
 namespace {
 
-struct IdName {
-  OperatorId id;
-  std::string_view name;
-};
-// Wire IDs and registry names; the registry (dmc_fitting) uses the same names.
-constexpr IdName kIdNames[] = {
-    {OperatorId::kKirchhoff, "kirchhoff"},
-    {OperatorId::kTutte, "tutte"},
-    {OperatorId::kCotan, "cotan"},
-    {OperatorId::kCotanArea, "cotan-area"},
-    {OperatorId::kCotanSym, "cotan-sym"},
-    {OperatorId::kMeanValue, "mean-value"},
-    {OperatorId::kDdl, "ddl"},
-    {OperatorId::kDdlAsym, "ddl-asym"},
-};
-
 std::string KnownIds() {
   std::string list;
-  for (const IdName& entry : kIdNames) {
+  // Names come from the frozen table in wire_ids.h; 0 ("invalid") is never a real operator.
+  for (const auto& entry : kOperatorIdNames) {
+    if (entry.value == OperatorId::kInvalid) continue;
     if (!list.empty()) list += ", ";
-    list += std::to_string(static_cast<int>(entry.id)) + " (" + std::string(entry.name) + ")";
+    list += std::to_string(static_cast<int>(entry.value)) + " (" + std::string(entry.name) + ")";
   }
   return list;
 }
@@ -34,8 +20,9 @@ std::string KnownIds() {
 }  // namespace
 
 std::string_view OperatorIdName(OperatorId id) {
-  for (const IdName& entry : kIdNames) {
-    if (entry.id == id) return entry.name;
+  if (id == OperatorId::kInvalid) return {};
+  for (const auto& entry : kOperatorIdNames) {
+    if (entry.value == id) return entry.name;
   }
   return {};
 }
