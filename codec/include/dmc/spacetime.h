@@ -204,4 +204,97 @@ class BlockTridiagonalSolver {
   std::unique_ptr<Impl> impl_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Spacetime as-rigid-as-possible editing (the paper's §5.3, after Sorkine & Alexa).
+//
+// A key frame K is edited (handles moved to targets, or the whole key frame replaced); the edit
+// spreads over the temporal window [K − W, K + W] (clipped to the sequence) by minimising, over
+// the window's vertices p′ ∈ R⁴ (coordinates (√α·t, x, y, z), so the metric is Euclidean) and
+// one rotation R_i ∈ SO(4) per spacetime cell (a vertex and its spatial and temporal neighbours),
+//   E = Σ_i Σ_{j ~ i} w_ij ‖(p′_i − p′_j) − R_i·(p_i − p_j)‖² + 2λ·Σ_{c constrained} ‖p′_c − t_c‖²
+// with w_ij the weights of the spacetime stiffness W and soft constraints (weight λ) on
+//   - the handles in the key frame (targets t_c = the edit),
+//   - the `fixed` vertices in every window frame (the spatial boundary of the region of
+//     interest; targets = input positions),
+//   - optionally every vertex of the window's first and last frames when they are not the
+//     sequence's ends (the temporal boundary; targets = input positions).
+// Local step: R_i from the SVD of the 4×4 covariance Σ_j w_ij (p_i − p_j)(p′_i − p′_j)ᵀ with the
+// determinant fixed to +1. Global step: (−W + λ·C)·p′ = b(R) + λ·C·t, factorised once and reused
+// by every iteration and every Solve. The first solve uses identity rotations. Iterations stop
+// when the largest vertex move is below tolerance × the sequence's bounding-box diagonal. Time
+// coordinates are then dropped: every vertex snaps back to its frame. With positive weights
+// (barycentric duals) E never increases from one iteration to the next.
+//
+// Vertices that could float freely are pinned to their input positions, so the system is always
+// definite: every spatial component without a handle or fixed vertex when no temporal boundary
+// is anchored, and vertices without dual volume (in no triangle).
+
+enum class SpacetimeSolverKind : uint8_t {
+  kSparseCholesky,  // SparseSpdSolver (CHOLMOD): the default, scales to large meshes
+  kBlockLdlt,       // BlockTridiagonalSolver: dense Schur complements, small meshes only
+};
+
+struct SpacetimeArapOptions {
+  double alpha = 1.0;
+  int key_frame = 0;
+  int window = 2;  // ≥ 1: frames [key − window, key + window] ∩ [0, F − 1] are edited
+  std::vector<double> frame_times;  // as SpacetimeOptions::frame_times (whole sequence)
+  SpatialDual spatial_dual = SpatialDual::kBarycentric;
+  bool anchor_temporal_boundary = true;
+  // λ = constraint_weight × the mean diagonal of −W: large enough that handles land within a
+  // fraction of a percent of their targets, small enough to keep the system well conditioned.
+  double constraint_weight = 1e3;
+  double tolerance = 1e-5;  // largest vertex move per iteration, relative to the bbox diagonal
+  int max_iterations = 100;
+  SpacetimeSolverKind solver = SpacetimeSolverKind::kSparseCholesky;
+};
+
+// Which vertices are constrained. Handles live in the key frame; `fixed` in every window frame.
+struct SpacetimeArapConstraints {
+  std::vector<int32_t> handles;
+  std::vector<int32_t> fixed;
+};
+
+struct SpacetimeArapResult {
+  MeshSequence sequence;                // the input with the window's frames replaced
+  int first_frame = 0, last_frame = 0;  // the window
+  int iterations = 0;                   // global steps after the initial identity-rotation solve
+  bool converged = false;
+  double last_move = 0.0;  // largest vertex move of the last iteration (absolute)
+  // E after each local step: energies[0] with the rotations fitted to the initial solve, then
+  // one value per iteration. Non-increasing for non-negative weights.
+  std::vector<double> energies;
+  double max_handle_error = 0.0;  // largest distance of a handle from its target (soft)
+};
+
+// The prepared editor: operator built and system factorised once per (sequence, constraints,
+// options); Solve may then be called for any number of handle targets.
+class SpacetimeArapEditor {
+ public:
+  // kInvalidArgument: bad options (α ≤ 0, window < 1, key frame outside the sequence, a window
+  // of fewer than two frames, tolerance ≤ 0), a vertex index outside [0, V), a vertex both
+  // handle and fixed, no handle at all; the operator's errors; kNumericalFailure if the system
+  // cannot be factorised.
+  static StatusOr<SpacetimeArapEditor> Create(const MeshSequence& sequence,
+                                              const SpacetimeArapConstraints& constraints,
+                                              const SpacetimeArapOptions& options);
+  SpacetimeArapEditor(SpacetimeArapEditor&&) noexcept;
+  SpacetimeArapEditor& operator=(SpacetimeArapEditor&&) noexcept;
+  ~SpacetimeArapEditor();
+
+  // Handle targets in the key frame, |handles|×3 in the order given to Create (kMismatch
+  // otherwise; kInvalidArgument when not finite).
+  StatusOr<SpacetimeArapResult> Solve(const Eigen::MatrixXd& handle_targets) const;
+
+  int first_frame() const;
+  int last_frame() const;
+  int unknowns() const;  // V × window frames
+  const SpacetimeLaplacian& laplacian() const;
+
+ private:
+  struct Impl;
+  explicit SpacetimeArapEditor(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace dmc
