@@ -12,6 +12,7 @@ namespace dmc {
 
 // Each defined in the file named beside it.
 MethodInfo LaplacianEditMethod();  // laplacian_edit.cpp
+MethodInfo SpacetimeArapMethod();  // spacetime_arap.cpp
 
 namespace {
 
@@ -20,6 +21,7 @@ using MethodRow = MethodInfo (*)();
 // The table, in the order `dmc edit --help` lists the methods.
 const MethodRow kMethods[] = {
     LaplacianEditMethod,
+    SpacetimeArapMethod,
 };
 
 const std::vector<MethodInfo>& Table() {
