@@ -36,6 +36,7 @@
 
 #include "dmc/sequence.h"
 #include "dmc/status.h"
+#include "dmc/tvm.h"
 
 namespace dmc {
 
@@ -60,5 +61,39 @@ std::string_view SynthDescription(std::string_view name);
 // naming the option for frames outside [1, kMaxSynthFrames] or resolution outside
 // [kMinSynthResolution, kMaxSynthResolution].
 StatusOr<MeshSequence> Synthesize(std::string_view name, const SynthOptions& options = {});
+
+// Time-varying examples (every frame has its own connectivity) with known volume-centre
+// trajectories, the inputs of dmc::tvm (see dmc/tvm.h), listed apart from the dynamic meshes above:
+//   prism      a pentagonal prism (circumradius 1, height 2, axis z) rotating about its axis; each
+//              frame is re-triangulated with a different sampling (vertex count within about ±20%
+//              of `resolution`); centres on a lattice inside the volume, rotating with it.
+//   collision  a unit cube and a sphere of radius 0.5 on the x axis that approach, touch at the
+//              middle frame (a point contact at the origin) and separate to a different gap; the
+//              cube spins about x, the sphere about z; each is re-tessellated every frame. Centres
+//              0 .. m-1 lie on a lattice inside the cube, the rest inside the sphere.
+// Same determinism and timing contract as Synthesize (frame f at f / 30 s; the seed varies the
+// speeds, never the connectivity pattern); centres number about `centres` (within ±25%).
+struct TimeVaryingSynthOptions {
+  int frames = 60;
+  int resolution = 2000;  // approximate vertex count per frame
+  int centres = 300;      // approximate number of volume centres
+  uint64_t seed = 1;
+};
+inline constexpr int kMinSynthCentres = 8;
+inline constexpr int kMaxSynthCentres = 100'000;
+
+struct TimeVaryingSynthesis {
+  tvm::TimeVaryingMesh mesh;        // name == the generator's, frame_rate == 30
+  tvm::CentreTrajectories centres;  // one trajectory per volume centre, same frame count
+};
+
+// Names (prism, collision) and one-line descriptions of the time-varying generators.
+std::vector<std::string_view> TimeVaryingSynthNames();
+std::string_view TimeVaryingSynthDescription(std::string_view name);
+
+// Errors: kNotFound for an unknown name (listing the known ones); kInvalidArgument naming the
+// option for frames, resolution or centres out of range.
+StatusOr<TimeVaryingSynthesis> SynthesizeTimeVarying(std::string_view name,
+                                                     const TimeVaryingSynthOptions& options = {});
 
 }  // namespace dmc

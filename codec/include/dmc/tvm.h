@@ -194,8 +194,9 @@ Eigen::Matrix3d WeightedKabsch(const Eigen::Ref<const FramePositionsD>& source,
 
 struct AffinityOptions {
   // Shape parameter alpha of a(i, j) = exp(-(alpha * max_f |x_i,f - x_j,f|)^2), in inverse length
-  // units. 0 picks 1 / (2 h), h = median distance from a centre to its nearest other centre in
-  // frame 0, so affinity falls to e^-1 at two centre spacings and below 1e-12 past about eleven.
+  // units. 0 picks 1 / h, h = median distance from a centre to its nearest other centre in
+  // frame 0: affinity is e^-1 at one centre spacing and below 1e-12 (exactly 0, see
+  // min_affinity) past 5.3 spacings, so parts that are ever that far apart never interact.
   double alpha = 0.0;
   // Neighbourhood size kept per centre (itself included): the K most affine centres, exactly,
   // found with a kd-tree (candidates within the K-th best max-distance in frame 0, since

@@ -88,7 +88,7 @@ StatusOr<AffinityGraph> AffinityGraph::Build(const CentreTrajectories& centres,
           "cannot choose alpha automatically: the median distance between neighbouring centres "
           "in frame 0 is 0 (coinciding centres); give alpha explicitly");
     } else {
-      impl->alpha = 1.0 / (2.0 * impl->spacing);
+      impl->alpha = 1.0 / impl->spacing;
     }
   }
   impl->min_affinity = options.min_affinity;

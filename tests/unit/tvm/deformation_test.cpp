@@ -166,7 +166,7 @@ TEST(AffinityTest, MatchesTheDefinitionAndFindsTheMostAffineNeighboursExactly) {
   options.neighbours = 10;
   const auto graph = AffinityGraph::Build(bodies.centres, options);
   ASSERT_TRUE(graph.ok());
-  EXPECT_NEAR(graph->alpha(), 1.0 / (2.0 * 0.2), 1e-12);  // lattice step 0.2
+  EXPECT_NEAR(graph->alpha(), 1.0 / 0.2, 1e-12);  // lattice step 0.2
   const int n = graph->centre_count();
   for (int i = 0; i < n; i += 5) {
     // Brute force: max distance over frames, sorted.
@@ -275,8 +275,8 @@ TEST(IntraFrameTest, EffectorsKeepTheirTransformAndFarCentresStay) {
     const double fraction = blended[i].Translation().z() / 0.3;
     const double affinity = graph->Affinity(i, effector);
     EXPECT_NEAR(fraction, affinity, 1e-12) << "centre " << i;
-    // Past sqrt(-ln 1e-12) / alpha = 2.63 (alpha = 2) the affinity is exactly 0.
-    if ((body.centres.position(i, 0) - source).norm() > 2.7) {
+    // Past sqrt(-ln 1e-12) / alpha = 1.31 (alpha = 4) the affinity is exactly 0.
+    if ((body.centres.position(i, 0) - source).norm() > 1.35) {
       EXPECT_EQ(fraction, 0.0);
     }
   }
