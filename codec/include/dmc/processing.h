@@ -205,13 +205,13 @@ using PrecomputeFunction = StatusOr<std::unique_ptr<PreparedMethod>> (*)(const P
 
 // One row of the processing registry.
 struct MethodInfo {
-  std::string_view name;  // stable, lower case: "laplacian-edit"
-  std::string_view description;
+  std::string_view name{};  // stable, lower case: "laplacian-edit"
+  std::string_view description{};
   MethodScope scope = MethodScope::kPerFrame;
-  bool needs_operator = true;      // RunMethod builds --operator once and passes it
-  bool needs_selection = false;    // at least one handle required
-  std::string_view vertex_scalar;  // per-vertex scalar output name, e.g. "mean_curvature"
-  std::span<const ParameterSpec> parameters;
+  bool needs_operator = true;        // RunMethod builds --operator once and passes it
+  bool needs_selection = false;      // at least one handle required
+  std::string_view vertex_scalar{};  // per-vertex scalar output name, e.g. "mean_curvature"
+  std::span<const ParameterSpec> parameters{};
   PrecomputeFunction precompute = nullptr;
 };
 
@@ -255,6 +255,20 @@ StatusOr<ProcessingResult> RunMethod(std::string_view method, const MeshSequence
 // A single mesh (one frame): Prepare + Apply.
 StatusOr<FrameOutput> RunMethodOnMesh(std::string_view method, const Triangles& triangles,
                                       const FramePositionsD& positions, const RunOptions& options);
+
+// ---------------------------------------------------------------------------------------------
+// Morphing helpers (the morph method; public so they can be tested and reused).
+
+enum class DeltaInterpolation : uint8_t {
+  kLinear,    // (1 − t)·d1 + t·d2: the same as interpolating positions (thesis 3.5)
+  kRotation,  // length (1 − t)|d1| + t|d2|, direction rotated from d1 toward d2 by t·α about
+              // n = d1×d2/|d1×d2| (Rodrigues); rows where either vector is ~0 fall back to linear
+};
+
+// Interpolates differential coordinates row by row (from, to: n×3). t = 0 gives `from`, t = 1
+// gives `to` (to rounding); with kRotation every row's length lies between the two inputs'.
+Eigen::MatrixXd InterpolateDeltas(const Eigen::MatrixXd& from, const Eigen::MatrixXd& to, double t,
+                                  DeltaInterpolation mode);
 
 // ---------------------------------------------------------------------------------------------
 // Output with a per-vertex scalar.

@@ -152,8 +152,18 @@ StatusOr<std::unique_ptr<PreparedMethod>> Precompute(const ProcessingContext& co
   if (!(weight > 0.0)) return InvalidArgumentError("--weight must be > 0");
   if (!(anchor_weight > 0.0)) return InvalidArgumentError("--anchor-weight must be > 0");
   const bool hard = mode == "hard";
-  const Selection& selection = context.selection;
   const int v_count = context.topology.vertex_count;
+  // Isolated vertices have no differential coordinate to keep: they stay where they are.
+  Selection selection = context.selection;
+  const std::vector<uint8_t> handle_mask = processing::MaskOf(selection.handles, v_count);
+  const std::vector<uint8_t> fixed_mask = processing::MaskOf(selection.fixed, v_count);
+  for (int v = 0; v < v_count; ++v) {
+    if (context.topology.degree(v) == 0 && !handle_mask[v] && !fixed_mask[v]) {
+      selection.fixed.push_back(v);
+    }
+  }
+  std::sort(selection.fixed.begin(), selection.fixed.end());
+  std::erase_if(selection.anchors, [&](int32_t v) { return context.topology.degree(v) == 0; });
   const SparseMatrixD& laplacian = context.laplace->matrix;
 
   std::vector<int> constrained_vertices(selection.handles.begin(), selection.handles.end());

@@ -11,8 +11,20 @@
 namespace dmc {
 
 // Each defined in the file named beside it.
-MethodInfo LaplacianEditMethod();  // laplacian_edit.cpp
-MethodInfo SpacetimeArapMethod();  // spacetime_arap.cpp
+MethodInfo LaplacianEditMethod();     // laplacian_edit.cpp
+MethodInfo SmoothExplicitMethod();    // smoothing.cpp
+MethodInfo SmoothTaubinMethod();      // smoothing.cpp
+MethodInfo SmoothImplicitMethod();    // smoothing.cpp
+MethodInfo ParamBarycentricMethod();  // param_barycentric.cpp
+MethodInfo MorphMethod();             // morph.cpp
+MethodInfo LeastSquaresMeshMethod();  // ls_mesh.cpp
+MethodInfo CurvatureMethod();         // curvature.cpp
+MethodInfo SpectralFilterMethod();    // spectral_filter.cpp
+MethodInfo SpacetimeArapMethod();     // spacetime_arap.cpp
+
+// The restricted B-spline methods, in bspline_spectrum.cpp and bspline_poisson_fit.cpp.
+MethodInfo BsplineSpectrumMethod();
+MethodInfo BsplinePoissonFitMethod();
 
 namespace {
 
@@ -20,8 +32,19 @@ using MethodRow = MethodInfo (*)();
 
 // The table, in the order `dmc edit --help` lists the methods.
 const MethodRow kMethods[] = {
-    LaplacianEditMethod,
-    SpacetimeArapMethod,
+    LaplacianEditMethod,     // one row per line, so adding a method is a one-line change
+    SmoothExplicitMethod,    //
+    SmoothTaubinMethod,      //
+    SmoothImplicitMethod,    //
+    ParamBarycentricMethod,  //
+    MorphMethod,             //
+    LeastSquaresMeshMethod,  //
+    CurvatureMethod,         //
+    SpectralFilterMethod,    //
+    SpacetimeArapMethod,     //
+
+    BsplineSpectrumMethod,    //
+    BsplinePoissonFitMethod,  //
 };
 
 const std::vector<MethodInfo>& Table() {
