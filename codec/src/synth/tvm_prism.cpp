@@ -156,18 +156,29 @@ TimeVaryingSynthesis GeneratePrism(const TimeVaryingSynthOptions& options) {
   const double speed = random.Uniform(0.6, 1.2);  // rad/s about the axis
   const double phase = random.Phase();
 
-  // Vertex count ~ 5 m (rows + 1) + 5 m^2 with rows ~ 1.7 m: about 13.5 m^2.
-  const int base = std::max(2, static_cast<int>(std::lround(std::sqrt(options.resolution / 13.5))));
+  // Side intervals per pentagon edge whose mesh is closest to the requested vertex count; rows
+  // keep the side quads near square (edge 2 sin 36° ~ 1.18, height 2).
+  auto rows_for = [](int per_side) {
+    return std::max(2, static_cast<int>(std::lround(1.7 * per_side)));
+  };
+  auto vertices_for = [&](int per_side) {
+    return kSides * per_side * (rows_for(per_side) + 1) + kSides * per_side * (per_side - 1) + 2;
+  };
+  int base = 2;
+  while (std::abs(vertices_for(base + 1) - options.resolution) <
+         std::abs(vertices_for(base) - options.resolution)) {
+    ++base;
+  }
   const std::vector<Eigen::Vector3d> centres = PrismCentres(options.centres);
 
   TimeVaryingSynthesis result;
   result.mesh.name = "prism";
   result.mesh.frame_rate = kFrameRate;
   for (int f = 0; f < options.frames; ++f) {
-    // A different sampling each frame: side and row counts cycle with different periods, and the
-    // quad diagonals alternate, so consecutive frames never share connectivity.
-    const int per_side = std::max(2, base + (f % 3) - 1);
-    const int rows = std::max(2, static_cast<int>(std::lround(1.7 * base)) + (f % 4) - 1);
+    // A different sampling each frame: the row count cycles through four values and the quad
+    // diagonals alternate, so consecutive frames never share connectivity.
+    const int per_side = base;
+    const int rows = std::max(2, rows_for(base) + (f % 4) - 1);
     const tvm::TvmFrame rest = BuildPrism(per_side, rows, f % 2 == 1);
     Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
     motion.linear() = Eigen::AngleAxisd(phase + speed * f / kFrameRate, Eigen::Vector3d::UnitZ())
