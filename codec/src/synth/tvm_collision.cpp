@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -128,14 +129,20 @@ TimeVaryingSynthesis GenerateCollision(const TimeVaryingSynthOptions& options) {
   const double volume = 8.0 * kBoxHalf * kBoxHalf * kBoxHalf +
                         4.0 / 3.0 * std::numbers::pi * std::pow(kSphereRadius, 3);
   double step = std::cbrt(volume / options.centres);
-  std::vector<Eigen::Vector3d> box_centres, sphere_centres;
-  for (int attempt = 0; attempt < 8; ++attempt) {
-    box_centres = Lattice(step, false);
-    sphere_centres = Lattice(step, true);
-    const double count = static_cast<double>(box_centres.size() + sphere_centres.size());
-    if (count >= 0.8 * options.centres) break;
+  // Lattice counts are a step function of the step: rescale a few times, keep the closest count.
+  double best_step = step;
+  double best_error = std::numeric_limits<double>::infinity();
+  for (int attempt = 0; attempt < 12; ++attempt) {
+    const double count =
+        static_cast<double>(Lattice(step, false).size() + Lattice(step, true).size());
+    if (std::abs(count - options.centres) < best_error) {
+      best_error = std::abs(count - options.centres);
+      best_step = step;
+    }
     step *= std::cbrt(std::max(count, 1.0) / options.centres);
   }
+  const std::vector<Eigen::Vector3d> box_centres = Lattice(best_step, false);
+  const std::vector<Eigen::Vector3d> sphere_centres = Lattice(best_step, true);
 
   TimeVaryingSynthesis result;
   result.mesh.name = "collision";

@@ -130,9 +130,10 @@ std::vector<Eigen::Vector3d> PrismCentres(int target) {
   const double area = 0.5 * kSides * std::sin(2.0 * std::numbers::pi / kSides);
   const double volume = area * 2.0 * kHalfHeight;
   double step = std::cbrt(volume / target);
-  std::vector<Eigen::Vector3d> points;
-  // The inset lattice holds fewer points than volume / step^3; shrink the step until close.
-  for (int attempt = 0; attempt < 8; ++attempt) {
+  std::vector<Eigen::Vector3d> points, best;
+  // The inset lattice holds fewer points than volume / step^3, and its count is a step function
+  // of the step: rescale a few times and keep the count closest to the target.
+  for (int attempt = 0; attempt < 12; ++attempt) {
     points.clear();
     const int half_xy = static_cast<int>(std::ceil(1.0 / step));
     const int half_z = static_cast<int>(std::floor((kHalfHeight - 0.5 * step) / step));
@@ -143,10 +144,13 @@ std::vector<Eigen::Vector3d> PrismCentres(int target) {
         for (int z = -half_z; z <= half_z; ++z) points.emplace_back(p.x(), p.y(), step * z);
       }
     }
-    if (static_cast<int>(points.size()) >= 0.8 * target) break;
-    step *= std::cbrt(static_cast<double>(points.size()) / target);
+    if (best.empty() || std::abs(static_cast<int>(points.size()) - target) <
+                            std::abs(static_cast<int>(best.size()) - target)) {
+      best = points;
+    }
+    step *= std::cbrt(std::max(static_cast<double>(points.size()), 1.0) / target);
   }
-  return points;
+  return best;
 }
 
 }  // namespace
