@@ -192,6 +192,10 @@ StatusOr<GeneralizedSpectrum> ComputeGeneralizedSpectrum(const SparseMatrixD& st
 // sphere: 0, 2 ×3, 6 ×5, 12 ×7, … = l(l+1) with multiplicity 2l+1).
 StatusOr<GeneralizedSpectrum> ComputeBsplineSpectrum(const BsplineOperator& op, int count);
 
+// Spectrum of a per-vertex operator from the registry: −L η = λ M η with M its diagonal mass
+// (identity when it has none). kUnsupported for a non-symmetric operator.
+StatusOr<GeneralizedSpectrum> LaplacianSpectrum(const LaplaceOperator& op, int count);
+
 // ---------------------------------------------------------------------------------------------
 // Per-vertex form for the operator registry (row "bspline").
 

@@ -7,6 +7,7 @@
 #include <exception>
 #include <numeric>
 #include <string>
+#include <vector>
 
 #include "dmc/bspline.h"
 
@@ -108,6 +109,22 @@ StatusOr<GeneralizedSpectrum> ComputeGeneralizedSpectrum(const SparseMatrixD& st
 StatusOr<GeneralizedSpectrum> ComputeBsplineSpectrum(const BsplineOperator& op, int count) {
   const BsplineLevel& level = op.finest();
   return ComputeGeneralizedSpectrum(-level.laplacian, level.mass, count);
+}
+
+StatusOr<GeneralizedSpectrum> LaplacianSpectrum(const LaplaceOperator& op, int count) {
+  if (!op.symmetric) {
+    return UnsupportedError("the spectrum needs a symmetric operator; " + op.name + " is not");
+  }
+  const Eigen::Index n = op.matrix.rows();
+  SparseMatrixD mass(n, n);
+  if (op.mass.size() == n) {
+    std::vector<Eigen::Triplet<double>> diagonal;
+    for (Eigen::Index v = 0; v < n; ++v) diagonal.emplace_back(v, v, op.mass[v]);
+    mass.setFromTriplets(diagonal.begin(), diagonal.end());
+  } else {
+    mass.setIdentity();
+  }
+  return ComputeGeneralizedSpectrum(-op.matrix, mass, count);
 }
 
 }  // namespace dmc
