@@ -13,6 +13,7 @@ struct DecodeArgs {
   std::string input;
   std::string output;
   std::string frame_format = "obj";
+  std::string glb_layout = "auto";
   int segment = -1;
   bool json = false;
 };
@@ -34,6 +35,7 @@ int RunDecode(const DecodeArgs& args) {
   }
   WriteOptions write_options;
   write_options.frame_format = args.frame_format;
+  write_options.glb_layout = args.glb_layout;
   const Status written = WriteSequence(*sequence, args.output, write_options);
   if (!written.ok()) return ReportError("decode", written, args.json);
   if (args.json) {
@@ -55,9 +57,12 @@ Command AddDecodeCommand(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand("decode", "Reconstruct a mesh sequence from a .dmc stream");
   app->add_option("INPUT", args->input, "Input .dmc file")->required();
   app->add_option("-o,--output", args->output,
-                  "Output: a directory of frames, a .pc2 cache, or a single mesh file")
+                  "Output: a directory of frames, a .pc2 cache, a .glb, or a single mesh file")
       ->required();
   app->add_option("--frame-format", args->frame_format, "obj, off or ply for frame directories")
+      ->capture_default_str();
+  app->add_option("--glb-layout", args->glb_layout,
+                  "auto, morph or frames: how a .glb output holds the frames (auto: smaller file)")
       ->capture_default_str();
   app->add_option("--segment", args->segment, "Decode only this segment (0-based)");
   app->add_flag("--json", args->json, "Machine-readable output");

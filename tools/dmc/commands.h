@@ -22,5 +22,6 @@ Command AddLaplacianCommand(CLI::App& parent);
 Command AddEncodeCommand(CLI::App& parent);
 Command AddDecodeCommand(CLI::App& parent);
 Command AddSweepCommand(CLI::App& parent);
+Command AddViewCommand(CLI::App& parent);
 
 }  // namespace dmc::cli

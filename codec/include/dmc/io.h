@@ -41,6 +41,21 @@ namespace dmc {
 // read on several threads; the callback is invoked by one of them at a time, never concurrently.
 using IoProgressCallback = std::function<void(int done, int total)>;
 
+// glTF/GLB inputs only (see ReadSequence).
+struct GltfReadOptions {
+  // The animation is sampled at t0, t0 + 1/fps, ... up to its end. 0 = the rate a dmc export
+  // records (asset.extras.dmc.frame_rate), else 30.
+  double frame_rate = 0.0;
+  // Empty: every mesh node of the default scene, all primitives, concatenated in scene order.
+  // Otherwise only nodes whose mesh or node name equals this (all primitives of that mesh).
+  std::string mesh;
+  std::string animation;  // animation name, or its index ("0", "1", ...); empty = the first
+  // Merge vertices split only by seams (same position in every frame within 1e-6 of the bounding
+  // box diagonal, different UV/normal); ReadReport::vertex_map keeps file vertex -> merged vertex.
+  // Triangles that collapse (two corners merged) are dropped, with a warning.
+  bool weld = false;
+};
+
 struct ReadOptions {
   // PC2 only: the mesh file whose triangles (and vertex count) the cache uses. Empty means the
   // first of <stem>.obj, <stem>.off, <stem>.ply beside the cache that exists.
@@ -48,12 +63,16 @@ struct ReadOptions {
   int max_frames = 0;  // read at most this many frames (the first ones); 0 = all
   int threads = 0;     // frame files parsed concurrently: 0 = one per hardware thread, 1 = serial
   IoProgressCallback progress;
+  GltfReadOptions gltf;
 };
 
 // Non-fatal findings of a read, one sentence each, e.g.
 // "frame 0 (x.obj): 752 faces with more than 3 corners were fan-triangulated into 1504 triangles".
 struct ReadReport {
   std::vector<std::string> warnings;
+  // glTF/GLB only: for every vertex of the file (scene order, primitive order), the sequence
+  // vertex it became; the identity unless GltfReadOptions::weld merged vertices.
+  std::vector<int32_t> vertex_map;
 };
 
 // Reads a mesh sequence. INPUT is one of:
@@ -62,7 +81,9 @@ struct ReadReport {
 //  - a glob pattern whose last component has wildcards (* ? [...]), e.g. "dir/mesh_*.obj",
 //    matched files taken in natural order;
 //  - a single .obj/.off/.ply file (a 1-frame sequence);
-//  - a .pc2 point cache, with triangles from options.connectivity (see ReadOptions).
+//  - a .pc2 point cache, with triangles from options.connectivity (see ReadOptions);
+//  - a .glb/.gltf file: its animation posed at options.gltf.frame_rate (skins, node animation,
+//    morph targets; see GltfReadOptions); a file without animation gives one frame.
 // Extensions are matched case-insensitively. Every frame must have frame 0's vertex count and
 // triangle list (kMismatch otherwise). The result has passed ValidateSequence; its degenerate
 // triangle warning, if any, is added to `report`. `name` is the input's stem (or directory name).
@@ -75,6 +96,9 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input,
 
 struct WriteOptions {
   std::string frame_format = "obj";  // obj | off | ply: per-frame file format for directories
+  // .glb only: "morph" (frame 0 + morph targets, weights animation), "frames" (one mesh per
+  // frame, stepped) or "auto" (whichever file is smaller).
+  std::string glb_layout = "auto";
   IoProgressCallback progress;
 };
 
@@ -82,6 +106,7 @@ struct WriteOptions {
 //  - .pc2: the point cache (startFrame 0, sampleRate 1: one sample per frame) plus <stem>.obj
 //    beside it holding the triangles and frame 0;
 //  - .obj/.off/.ply: a single mesh file; the sequence must have exactly one frame;
+//  - .glb: a binary glTF 2.0 file playing the frames at frame_rate (30 fps when 0), with normals;
 //  - anything else: a directory of frame_0000.<fmt>, frame_0001.<fmt>, ... (at least 4 digits,
 //    more when there are 10000 frames or more). An existing directory is replaced only when it
 //    holds nothing but frame files (so a typo cannot wipe an unrelated folder).

@@ -14,6 +14,7 @@
 
 #include "dmc/io.h"
 #include "io/file_ops.h"
+#include "io/gltf_format.h"
 #include "io/mesh_formats.h"
 #include "io/pc2_format.h"
 
@@ -354,10 +355,19 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const Re
   } else if (io_internal::MeshFormatFromPath(input)) {
     name = input.stem().string();
     sequence = ReadFrameFiles({input}, options, warnings);
+  } else if (const std::string ext = Lowercase(input.extension().string());
+             ext == ".glb" || ext == ".gltf") {
+    name = input.stem().string();
+    auto imported = io_internal::ReadGltf(input, options.gltf, options.max_frames);
+    if (!imported.ok()) return imported.status();
+    warnings.insert(warnings.end(), imported->warnings.begin(), imported->warnings.end());
+    if (report != nullptr) report->vertex_map = std::move(imported->vertex_map);
+    sequence = std::move(imported->sequence);
+    if (options.progress) options.progress(sequence->frame_count(), sequence->frame_count());
   } else {
     return UnsupportedError(input.string() +
                             ": unknown input format (expected a directory, a glob pattern, "
-                            ".obj, .off, .ply or .pc2)");
+                            ".obj, .off, .ply, .pc2, .glb or .gltf)");
   }
   if (!sequence.ok()) return sequence.status();
   sequence->name = name;
@@ -521,6 +531,21 @@ Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& 
   const std::string extension = Lowercase(output.extension().string());
 
   if (extension == ".pc2") return WritePc2Pair(sequence, output, options);
+  if (extension == ".glb") {
+    io_internal::GlbLayout layout = io_internal::GlbLayout::kAuto;
+    if (options.glb_layout == "morph") {
+      layout = io_internal::GlbLayout::kMorph;
+    } else if (options.glb_layout == "frames") {
+      layout = io_internal::GlbLayout::kFrames;
+    } else if (options.glb_layout != "auto") {
+      return InvalidArgumentError("unknown GLB layout '" + options.glb_layout +
+                                  "' (expected auto, morph or frames)");
+    }
+    DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> glb, io_internal::EncodeGlb(sequence, layout));
+    DMC_RETURN_IF_ERROR(WriteFileAtomically(output, glb));
+    if (options.progress) options.progress(sequence.frame_count(), sequence.frame_count());
+    return Status::Ok();
+  }
   if (const auto single = io_internal::MeshFormatFromPath(output);
       single && output_path.has_filename()) {
     if (sequence.frame_count() != 1) {

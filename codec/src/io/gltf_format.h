@@ -1,0 +1,83 @@
+// glTF 2.0 import (posing skinned, node-animated and morph-target animations into a dynamic mesh)
+// and GLB export (a decoded sequence as a GLB that plays in three.js, Blender, Khronos viewers).
+//
+// tinygltf (Debian's libtinygltf-dev) parses and serialises the files; its implementation is
+// compiled once, in gltf_tinygltf.cpp, without image decoding (dmc never needs pixels: images are
+// kept as opaque bytes or URIs), so the only dependency is nlohmann_json.
+//
+// Posing follows the glTF 2.0 specification, section 3.7 and 3.11:
+//  - node local transform = `matrix`, or T·R·S from translation, rotation, scale, where animated
+//    paths replace the static values; global = parent global · local, from the scene roots;
+//  - morph targets first: p = POSITION + Σ_i w_i · target_i.POSITION, w from the node's animated
+//    `weights`, else node.weights, else mesh.weights, else 0;
+//  - skinned nodes (node.skin set): p' = Σ_k WEIGHTS_n[k] · (global(joint) · inverseBind(joint)) ·
+//  p
+//    over every JOINTS_n/WEIGHTS_n set; the mesh node's own transform is ignored, as the spec
+//    requires; unskinned nodes: p' = global(node) · p;
+//  - keyframes: STEP holds the previous key; LINEAR lerps (slerp on the shortest arc for
+//    rotations); CUBICSPLINE is the Hermite spline of the spec with tangents scaled by the key
+//    interval (rotations normalised afterwards). Before the first key the first value holds, after
+//    the last key the last.
+// Everything is computed in double and rounded to float32 once.
+#pragma once
+
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "dmc/io.h"
+#include "dmc/sequence.h"
+#include "dmc/status.h"
+
+namespace dmc::io_internal {
+
+// The result of an import: the posed sequence plus what the caller may want to know.
+struct GltfImport {
+  MeshSequence sequence;
+  // For every vertex of the file, in import order (scene nodes depth-first from the roots, then
+  // primitives in order, then the primitive's vertices), the sequence vertex it became. Identity
+  // unless welding merged vertices.
+  std::vector<int32_t> vertex_map;
+  std::vector<std::string> warnings;
+};
+
+// Loads a .gltf (JSON with external or embedded buffers) or .glb file. kIoError when the file
+// cannot be read, kParseError (with tinygltf's message) when it is not valid glTF.
+StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path);
+
+// Poses the model's animation into a sequence (see the top of this file for the maths).
+// `max_frames` > 0 keeps only the first frames. Errors:
+//  - kInvalidArgument: frame_rate negative or not finite, no mesh or animation of that name;
+// A dmc "frames" export (asset.extras.dmc.layout) is read back as its frames, not posed, unless a
+// mesh is selected.
+//  - kUnsupported: no triangle primitives to import (points/lines only, or no mesh at all);
+//  - kParseError: accessors out of their buffers, joints or targets out of range, and other
+//    inconsistencies of the file, naming the object at fault.
+StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadOptions& options,
+                                   int max_frames = 0);
+
+// LoadGltfModel then PoseGltfModel.
+StatusOr<GltfImport> ReadGltf(const std::filesystem::path& path, const GltfReadOptions& options,
+                              int max_frames = 0);
+
+// How an exported GLB holds the frames.
+enum class GlbLayout {
+  kAuto,    // whichever of the two below gives the smaller file
+  kMorph,   // one mesh, frame 0 as base, frames 1.. as morph targets, a LINEAR weights animation
+  kFrames,  // one mesh per frame under one parent node, shown in turn by a STEP scale animation
+};
+
+// The GLB bytes of a valid sequence: positions, per-frame area-weighted vertex normals, shared
+// indices, and an animation playing the frames at sequence.frame_rate (30 fps when unknown).
+// The asset's extras record {"dmc": {"layout": "morph"|"frames", "frames": F, "vertices": V,
+// "frame_rate": fps}} so viewers can read the frames back without playing the animation.
+StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence,
+                                         GlbLayout layout = GlbLayout::kAuto);
+
+}  // namespace dmc::io_internal

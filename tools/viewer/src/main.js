@@ -1,0 +1,178 @@
+// dmc viewer: the original and the decoded animation side by side, in sync, the decoded mesh
+// coloured by per-vertex error. Data comes from the page's server (dmc view): data/metrics.json,
+// data/decoded.glb and, when an original was given, data/original.glb. The GLBs are dmc exports
+// (asset.extras.dmc.layout "morph" or "frames"); frames are read back from the file's buffers and
+// shown directly, so both sides always show the same frame index.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { extractFrames, vertexErrors, errorColour } from './frames.js';
+
+const status = document.getElementById('status');
+const slider = document.getElementById('slider');
+const playButton = document.getElementById('play');
+const frameLabel = document.getElementById('frame-label');
+const stats = document.getElementById('stats');
+
+// State the browser test reads (window.dmcViewer) as well as the page.
+const viewer = { ready: false, frame: 0, frames: 0, renderedFrame: -1, playing: true };
+window.dmcViewer = viewer;
+
+async function loadGlb(url) {
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+  const gltf = await new GLTFLoader().parseAsync(await response.arrayBuffer(), '');
+  return extractFrames(gltf);
+}
+
+function makeView(canvas, frames, colours) {
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0x303338);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x404050, 2.2));
+  const light = new THREE.DirectionalLight(0xffffff, 1.5);
+  light.position.set(1, 2, 3);
+  scene.add(light);
+  const geometry = new THREE.BufferGeometry();
+  geometry.setIndex(new THREE.BufferAttribute(frames.index, 1));
+  geometry.setAttribute('position', new THREE.BufferAttribute(frames.positions[0].slice(), 3));
+  if (colours) {
+    geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(frames.vertexCount * 3), 3));
+  }
+  const material = new THREE.MeshStandardMaterial({
+    color: colours ? 0xffffff : 0xc8c8d0, vertexColors: !!colours, side: THREE.DoubleSide,
+    roughness: 0.7, metalness: 0.0,
+  });
+  scene.add(new THREE.Mesh(geometry, material));
+  const camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
+  const controls = new OrbitControls(camera, canvas);
+  return { renderer, scene, geometry, camera, controls, canvas, frames };
+}
+
+function frameCamera(view, box) {
+  const centre = box.getCenter(new THREE.Vector3());
+  const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1e-6);
+  view.camera.near = radius / 100;
+  view.camera.far = radius * 100;
+  view.camera.position.copy(centre).add(new THREE.Vector3(0, radius * 0.3, radius * 2.8));
+  view.controls.target.copy(centre);
+  view.camera.updateProjectionMatrix();
+  view.controls.update();
+}
+
+function resize(view) {
+  const width = view.canvas.clientWidth, height = view.canvas.clientHeight;
+  if (view.canvas.width !== Math.floor(width * window.devicePixelRatio) ||
+      view.canvas.height !== Math.floor(height * window.devicePixelRatio)) {
+    view.renderer.setSize(width, height, false);
+    view.camera.aspect = width / Math.max(height, 1);
+    view.camera.updateProjectionMatrix();
+  }
+}
+
+async function main() {
+  const metrics = await (await fetch('data/metrics.json')).json();
+  const decoded = await loadGlb('data/decoded.glb');
+  const original = metrics.original ? await loadGlb('data/original.glb') : null;
+  if (original && (original.vertexCount !== decoded.vertexCount ||
+                   original.positions.length !== decoded.positions.length)) {
+    throw new Error('original and decoded differ in vertex or frame count');
+  }
+  const frameCount = decoded.positions.length;
+  const errors = original ? vertexErrors(original, decoded) : null;
+
+  const views = [];
+  const originalCanvas = document.getElementById('original');
+  if (original) views.push(makeView(originalCanvas, original, null));
+  else originalCanvas.parentElement.querySelector('.label').textContent = 'original: not given';
+  const decodedView = makeView(document.getElementById('decoded'), decoded, errors);
+  views.push(decodedView);
+
+  const box = new THREE.Box3().setFromArray(decoded.positions[0]);
+  for (const view of views) frameCamera(view, box);
+  // One camera motion drives both views.
+  for (const view of views) {
+    view.controls.addEventListener('change', () => {
+      for (const other of views) {
+        if (other === view) continue;
+        other.camera.position.copy(view.camera.position);
+        other.camera.quaternion.copy(view.camera.quaternion);
+        other.controls.target.copy(view.controls.target);
+      }
+    });
+  }
+
+  viewer.frames = frameCount;
+  slider.max = String(frameCount - 1);
+  document.getElementById('title').textContent =
+    `${metrics.input}: ${metrics.frames} frames × ${metrics.vertices} vertices`;
+  document.getElementById('legend-max').textContent = errors
+    ? `${(100 * errors.scale).toPrecision(3)}% of the bounding-box diagonal` : '(no original)';
+
+  const showFrame = (f) => {
+    viewer.frame = f;
+    slider.value = String(f);
+    frameLabel.textContent = `frame ${f} / ${frameCount - 1}`;
+    document.body.dataset.frame = String(f);
+    for (const view of views) {
+      const position = view.geometry.getAttribute('position');
+      position.array.set(view.frames.positions[f]);
+      position.needsUpdate = true;
+      view.geometry.computeVertexNormals();
+      view.geometry.computeBoundingSphere();
+    }
+    if (errors) {
+      const colour = decodedView.geometry.getAttribute('color');
+      errorColour(errors.perFrame[f], errors.scale, colour.array);
+      colour.needsUpdate = true;
+    }
+    const lines = [`file: ${metrics.bytes} bytes, ${metrics.bpfv.toFixed(3)} bpfv`];
+    const distortion = metrics.distortion;
+    if (distortion) {
+      const frame = distortion.frames[f];
+      lines.push(`frame ${f}: KG contribution ${frame.kg.toPrecision(4)}  STED_s ${frame.sted_s.toPrecision(4)}`);
+      lines.push(`sequence: KG ${distortion.kg.toPrecision(4)}  STED ${distortion.sted.toPrecision(4)}` +
+                 `  (STED_s ${distortion.sted_s.toPrecision(4)}, STED_t ${distortion.sted_t.toPrecision(4)})`);
+    }
+    stats.textContent = lines.join('\n');
+  };
+
+  slider.addEventListener('input', () => { showFrame(Number(slider.value)); });
+  playButton.addEventListener('click', () => {
+    viewer.playing = !viewer.playing;
+    playButton.textContent = viewer.playing ? 'pause' : 'play';
+  });
+
+  const frameRate = metrics.frame_rate > 0 ? metrics.frame_rate : 30;
+  let clockStart = performance.now();
+  let startFrame = 0;
+  showFrame(0);
+  const loop = (now) => {
+    if (viewer.playing && frameCount > 1) {
+      const f = (startFrame + Math.floor(((now - clockStart) / 1000) * frameRate)) % frameCount;
+      if (f !== viewer.frame) showFrame(f);
+    } else {
+      clockStart = now;
+      startFrame = viewer.frame;
+    }
+    for (const view of views) {
+      resize(view);
+      view.controls.update();
+      view.renderer.render(view.scene, view.camera);
+    }
+    viewer.renderedFrame = viewer.frame;
+    if (!viewer.ready) {
+      viewer.ready = true;
+      status.textContent = '';
+    }
+    requestAnimationFrame(loop);
+  };
+  requestAnimationFrame(loop);
+}
+
+main().catch((error) => {
+  status.textContent = `error: ${error.message}`;
+  viewer.error = String(error.message);
+  console.error(error);
+});
