@@ -150,7 +150,9 @@ async function main() {
   showFrame(0);
   const loop = (now) => {
     if (viewer.playing && frameCount > 1) {
-      const f = (startFrame + Math.floor(((now - clockStart) / 1000) * frameRate)) % frameCount;
+      // requestAnimationFrame's timestamp may precede the performance.now() taken at start.
+      const elapsed = Math.max(0, now - clockStart) / 1000;
+      const f = (startFrame + Math.floor(elapsed * frameRate)) % frameCount;
       if (f !== viewer.frame) showFrame(f);
     } else {
       clockStart = now;

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# ctest driver of the browser-side tests (registered in tests/CMakeLists.txt):
+#   run.sh validate BUILD_DIR SHARED_DATA_DIR   Khronos glTF validator on dmc's GLB exports
+#   run.sh viewer   BUILD_DIR SHARED_DATA_DIR   headless chromium against `dmc view`
+# npm packages come from the committed package-lock.json files through `npm ci` into BUILD_DIR
+# (never into the source tree). Exits 77 (ctest: skipped) when node/npm or chromium is missing or
+# the npm registry cannot be reached.
+set -euo pipefail
+mode=${1:?usage: run.sh validate|viewer BUILD_DIR SHARED_DATA_DIR}
+build=$(cd "${2:?build dir}" && pwd)
+shared=${3:-}
+here=$(cd "$(dirname "$0")" && pwd)
+source_dir=$(cd "$here/../.." && pwd)
+dmc="$build/bin/dmc"
+skip() { echo "SKIPPED: $*"; exit 77; }
+
+command -v node >/dev/null && command -v npm >/dev/null || skip "node/npm not installed"
+[ -x "$dmc" ] || { echo "no dmc binary at $dmc"; exit 1; }
+
+work="$build/browser-tests"
+mkdir -p "$work"
+cp "$here/package.json" "$here/package-lock.json" "$here"/*.mjs "$work/"
+if ! cmp -s "$here/package-lock.json" "$work/node_modules/.dmc-lock" 2>/dev/null; then
+  (cd "$work" && npm ci --no-audit --no-fund --loglevel=error) || skip "npm ci failed (registry unreachable?)"
+  cp "$here/package-lock.json" "$work/node_modules/.dmc-lock"
+fi
+
+# A small synthetic animation, encoded and decoded: the files under test.
+data="$work/data-$mode"
+rm -rf "$data" && mkdir -p "$data"
+"$dmc" synth cloth -o "$data/cloth" --frames 12 --resolution 400 >/dev/null
+"$dmc" encode "$data/cloth" -o "$data/cloth.dmc" >/dev/null
+
+case "$mode" in
+  validate)
+    files=()
+    for layout in morph frames auto; do
+      "$dmc" decode "$data/cloth.dmc" -o "$data/cloth-$layout.glb" --glb-layout "$layout" >/dev/null
+      files+=("$data/cloth-$layout.glb")
+    done
+    # Real skinned and morph-target samples, imported and written back out, when present.
+    for sample in cesium-man/CesiumMan.glb threejs-horse-morph/Horse.glb fox/Fox.glb; do
+      if [ -n "$shared" ] && [ -f "$shared/$sample" ]; then
+        name=$(basename "$sample" .glb)
+        "$dmc" convert "$shared/$sample" -o "$data/$name-export.glb" --max-frames 20 >/dev/null
+        files+=("$data/$name-export.glb")
+      fi
+    done
+    (cd "$work" && node validate_glb.mjs "${files[@]}")
+    ;;
+  viewer)
+    [ -x /usr/bin/chromium ] || skip "/usr/bin/chromium not installed"
+    "$source_dir/tools/viewer/build.sh" "$build/bin/viewer" >/dev/null \
+      || skip "viewer build failed (npm registry unreachable?)"
+    "$dmc" view "$data/cloth.dmc" --original "$data/cloth" --port 0 --json --exit-after 240 \
+      >"$data/view.json" 2>"$data/view.err" &
+    server=$!
+    trap 'kill "$server" 2>/dev/null || true' EXIT
+    url=""
+    for _ in $(seq 1 200); do
+      url=$(grep -o 'http://127.0.0.1:[0-9]*/' "$data/view.json" 2>/dev/null || true)
+      [ -n "$url" ] && break
+      kill -0 "$server" 2>/dev/null || { cat "$data/view.err"; exit 1; }
+      sleep 0.1
+    done
+    [ -n "$url" ] || { echo "dmc view printed no URL"; cat "$data/view.err"; exit 1; }
+    mkdir -p "$build/test-artifacts"
+    (cd "$work" && node viewer_test.mjs "$url" "$build/test-artifacts/viewer.png")
+    ;;
+  *) echo "unknown mode $mode"; exit 2 ;;
+esac
