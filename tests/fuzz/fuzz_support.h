@@ -1,19 +1,27 @@
-// Shared helpers of the fuzz targets.
+// Shared helpers of the fuzz targets (and of the allocation-bound test, which damages streams the
+// same way).
 //
 // DeclaredSizesAreSmall() pre-screens a .dmc input the way a service with a memory budget would:
 // the format lets a few hundred bytes declare up to 16 GiB of output (spec §6.2), which a decoder
 // allocates legitimately. Fuzzing such inputs only measures the machine's memory, so the decode
 // targets skip streams whose sequence header declares more than a small budget; everything else
 // (every container, connectivity and segment path) is exercised in full.
+//
+// RepairChecksums() rewrites the checksum of every chunk a (possibly damaged) stream frames, so a
+// mutation reaches the payload decoders instead of stopping at the checksum check.
 #pragma once
 
 #include <cstdint>
 #include <cstdlib>
+#include <optional>
 #include <span>
+#include <vector>
 
 #include "bitstream/format.h"
+#include "bitstream/syntax.h"
 #include "decoder/syntax_reader.h"
 #include "dmc/status.h"
+#include "dmc/wire_ids.h"
 #include "entropy/byte_io.h"
 
 namespace dmc::fuzz {
@@ -21,9 +29,10 @@ namespace dmc::fuzz {
 inline constexpr uint64_t kMaxFuzzVertices = 1 << 16;
 inline constexpr uint64_t kMaxFuzzPositionValues = 1 << 22;  // 16 MB of float32 output
 
-// True when the stream is not a .dmc stream at all (the decoder rejects it cheaply) or when its
-// sequence header declares a mesh within the fuzzing budget.
-inline bool DeclaredSizesAreSmall(std::span<const uint8_t> stream) {
+// The sequence header of the stream's first chunk when it frames and parses (its checksum is not
+// verified: this is what the stream claims, not what a decoder accepts); nullopt otherwise.
+inline std::optional<format::SequenceHeader> DeclaredSequenceHeader(
+    std::span<const uint8_t> stream) {
   ByteReader reader(stream);
   std::span<const uint8_t> preamble;
   uint8_t type = 0;
@@ -32,12 +41,47 @@ inline bool DeclaredSizesAreSmall(std::span<const uint8_t> stream) {
   if (!reader.GetBytes(7, &preamble, "").ok() || !reader.GetU8(&type, "").ok() ||
       !reader.GetVarU(&size, "").ok() || size > reader.remaining() ||
       !reader.GetBytes(static_cast<size_t>(size), &payload, "").ok()) {
-    return true;
+    return std::nullopt;
   }
-  const StatusOr<format::SequenceHeader> header = syntax::ReadSequenceHeader(payload);
-  if (!header.ok()) return true;
+  StatusOr<format::SequenceHeader> header = syntax::ReadSequenceHeader(payload);
+  if (!header.ok()) return std::nullopt;
+  return *std::move(header);
+}
+
+// True when the stream is not a .dmc stream at all (the decoder rejects it cheaply) or when its
+// sequence header declares a mesh within the fuzzing budget.
+inline bool DeclaredSizesAreSmall(std::span<const uint8_t> stream) {
+  const std::optional<format::SequenceHeader> header = DeclaredSequenceHeader(stream);
+  if (!header) return true;
   return header->vertex_count <= kMaxFuzzVertices &&
          uint64_t{header->vertex_count} * header->frame_count * 3 <= kMaxFuzzPositionValues;
+}
+
+// A copy of the stream with every framed chunk's checksum recomputed; bytes that do not frame as
+// chunks (a damaged preamble, a size running past the end) are kept as they are.
+inline std::vector<uint8_t> RepairChecksums(std::span<const uint8_t> stream) {
+  std::vector<uint8_t> repaired(stream.begin(), stream.end());
+  ByteReader reader(stream);
+  std::span<const uint8_t> preamble;
+  if (!reader.GetBytes(7, &preamble, "").ok()) return repaired;
+  while (!reader.at_end()) {
+    uint8_t type = 0;
+    uint64_t size = 0;
+    std::span<const uint8_t> payload;
+    if (!reader.GetU8(&type, "").ok() || !reader.GetVarU(&size, "").ok() ||
+        size > reader.remaining() ||
+        !reader.GetBytes(static_cast<size_t>(size), &payload, "").ok() || reader.remaining() < 4) {
+      break;
+    }
+    const uint32_t checksum = format::ChunkChecksum(type, payload);
+    for (int i = 0; i < 4; ++i) {
+      repaired[reader.position() + i] = static_cast<uint8_t>(checksum >> (8 * i));
+    }
+    uint32_t ignored = 0;
+    (void)reader.GetU32(&ignored, "");
+    if (type == static_cast<uint8_t>(ChunkType::kEnd)) break;
+  }
+  return repaired;
 }
 
 // Stops the fuzzer with a crash report (an invariant of a successful result was broken).
