@@ -269,13 +269,19 @@ Command AddEditTvmSubcommand(CLI::App& edit) {
   auto args = std::make_shared<EditTvmArgs>();
   CLI::App* app = edit.add_subcommand(
       "tvm",
-      "Edit a time-varying mesh (a directory of frames whose connectivity may change) through its "
-      "volume-centre trajectories, with dual quaternions (Hácha et al.). The selection JSON is "
-      "{\"centres\": [..] | \"all\", \"frame\": K, \"transform\": [16 numbers, row-major]} "
-      "(or \"vertices\" instead of \"centres\") for transform; {\"centre\": i, \"frame\": K, "
-      "\"beta\": b} for inflate; {\"mode\": \"automatic\"} or a semi-automatic transform of an end "
-      "frame for loop; optional \"decay\": {\"kind\": \"linear\"|\"smooth\"|\"none\", \"radius\": "
-      "r}. OUTPUT gets the frames and centres.txt (the edited centres)");
+      "Edit a time-varying mesh (frames with their own connectivity) through its volume-centre "
+      "trajectories, with dual quaternions");
+  app->footer(
+      "INPUT is a directory of frame files; OUTPUT gets the edited frames and centres.txt (the "
+      "edited centres). The selection JSON is\n"
+      "  transform: {\"centres\": [i, ...] | \"all\", \"frame\": K, \"transform\": [16 numbers, "
+      "row-major 4x4]}\n"
+      "             or {\"vertices\": [v, ...], \"frame\": K, \"transform\": [...]}\n"
+      "  inflate:   {\"centre\": i, \"frame\": K, \"beta\": b}   (b < 0 deflates)\n"
+      "  loop:      {\"mode\": \"automatic\"} or {\"mode\": \"semi-automatic\", \"centres\": ..., "
+      "\"frame\": 0 | F-1, \"transform\": [...]}\n"
+      "each with an optional \"decay\": {\"kind\": \"none\" | \"linear\" | \"smooth\", \"radius\": "
+      "r}.");
   app->add_option("input", args->input, "Directory of frame files (.obj/.off/.ply)")->required();
   app->add_option("--centres", args->centres,
                   "Centres file (dmc-centres text format; default INPUT/centres.txt)");

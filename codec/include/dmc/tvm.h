@@ -99,7 +99,7 @@ StatusOr<TimeVaryingMesh> ReadTimeVaryingMesh(const std::filesystem::path& direc
 // Writes frame_0000.<fmt>, frame_0001.<fmt>, ... (4 digits, more from 10000 frames) into
 // `directory`, each file atomically, float32 coordinates in shortest round-trip form.
 // frame_format is "obj", "off" or "ply" (ASCII). The directory is created when missing (its parent
-// must exist); an existing one may only hold frame files and centres files, which are removed
+// must exist); an existing one may only hold frame_* files and centres.txt, which are removed
 // first so no stale frame survives (kIoError otherwise, so a typo cannot wipe unrelated files).
 // The mesh must pass ValidateTimeVaryingMesh.
 Status WriteTimeVaryingMesh(const TimeVaryingMesh& mesh, const std::filesystem::path& directory,
@@ -200,7 +200,9 @@ struct AffinityOptions {
   double alpha = 0.0;
   // Neighbourhood size kept per centre (itself included): the K most affine centres, exactly,
   // found with a kd-tree (candidates within the K-th best max-distance in frame 0, since
-  // max_f d >= d_0). Must cover both the Kabsch and the surface neighbourhoods.
+  // max_f d >= d_0). Must cover both the Kabsch and the surface neighbourhoods. Cost is about
+  // n log n + n m F with m the candidates per centre: near-linear while centres keep their
+  // neighbours, up to O(n^2 F) if the K-th most affine centre is ever as far as the whole set.
   int neighbours = 16;
   // Affinities below this are treated as exactly 0 (bodies that separate do not interact at all).
   double min_affinity = 1e-12;

@@ -24,10 +24,10 @@ bool IsFrameFileName(const std::string& name) {
   return !name.empty() && name.front() != '.' && io_internal::MeshFormatFromPath(name).has_value();
 }
 
-// Files of a TVM directory that WriteTimeVaryingMesh may delete: its own frame files and centres.
+// Files of a TVM directory that WriteTimeVaryingMesh may delete: the frame files and the centres
+// file it writes itself, nothing else.
 bool IsReplaceableFileName(const std::string& name) {
-  return (name.rfind("frame_", 0) == 0 && IsFrameFileName(name)) ||
-         (name.front() != '.' && name.find("centres") != std::string::npos);
+  return (name.rfind("frame_", 0) == 0 && IsFrameFileName(name)) || name == kCentresFileName;
 }
 
 std::span<const uint8_t> AsBytes(std::string_view text) {
