@@ -151,7 +151,9 @@ TEST(TvmCliTest, EditingTheBoxLeavesTheSphereUnmoved) {
   for (int f = 0; f < 9; ++f) {
     for (int i = 0; i < centres->centre_count(); ++i) {
       const double moved = (edited_centres->position(i, f) - centres->position(i, f)).norm();
-      if (centres->position(i, f).x() > 0.0) EXPECT_EQ(moved, 0.0) << "sphere centre " << i;
+      if (centres->position(i, f).x() > 0.0) {
+        EXPECT_EQ(moved, 0.0) << "sphere centre " << i;
+      }
     }
     const auto& before = original->frames[f];
     const auto& after = edited->frames[f];
