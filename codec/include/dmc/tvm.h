@@ -157,7 +157,7 @@ class DualQuaternion {
   // The nearest unit dual quaternion: r/|r|, and d/|r| without its component along r, so
   // r.d = 0 holds exactly as far as rounding allows. Requires Norm() > 0.
   DualQuaternion Normalized() const;
-  // 8-vector dot product of the real parts (sign alignment before blending).
+  // Dot product of the real parts as 4-vectors (sign alignment before blending).
   double RealDot(const DualQuaternion& other) const {
     return real_.coeffs().dot(other.real_.coeffs());
   }
