@@ -75,7 +75,8 @@ SparseMatrixD AssembleBlockTridiagonal(const MeshTopology& topology, const Sorte
       double diagonal_sum = 0.0;
       const auto put = [&](int row, double weight) {
         inner[slot] = row;
-        value[slot++] = weight * row_scale[row] * col_scale[column];
+        // Scales multiplied first: s_r·s_c == s_c·s_r exactly, so Δ is bitwise symmetric.
+        value[slot++] = weight * (row_scale[row] * col_scale[column]);
         diagonal_sum += weight;
       };
       if (k > 0) put(column - v_count, temporal_weight(i, k - 1));
