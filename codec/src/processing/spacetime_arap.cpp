@@ -124,9 +124,10 @@ StatusOr<std::unique_ptr<PreparedMethod>> Precompute(const ProcessingContext& co
     constraints.handles = context.selection.handles;
     targets = TransformedHandlePositions(context.selection, sequence.frame_d(options.key_frame));
   }
+  // The editor's messages already name the method.
   StatusOr<SpacetimeArapEditor> editor =
       SpacetimeArapEditor::Create(sequence, constraints, options);
-  if (!editor.ok()) return editor.status().WithContext("spacetime-arap");
+  if (!editor.ok()) return editor.status();
   return std::unique_ptr<PreparedMethod>(
       new PreparedSpacetimeArap(std::move(editor).value(), std::move(targets), options.key_frame,
                                 sequence.vertex_count(), sequence.frame_count()));
