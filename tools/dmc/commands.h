@@ -22,6 +22,9 @@ Command AddLaplacianCommand(CLI::App& parent);
 Command AddEncodeCommand(CLI::App& parent);
 Command AddDecodeCommand(CLI::App& parent);
 Command AddSweepCommand(CLI::App& parent);
+Command AddEditCommand(CLI::App& parent);
+// A hand-written `dmc edit tvm` subcommand (cmd_edit_tvm.cpp), added to `edit` by cmd_edit.cpp.
+Command AddEditTvmSubcommand(CLI::App& edit);
 Command AddViewCommand(CLI::App& parent);
 
 }  // namespace dmc::cli

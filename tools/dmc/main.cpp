@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
       dmc::cli::AddEncodeCommand,    dmc::cli::AddDecodeCommand,  dmc::cli::AddInfoCommand,
       dmc::cli::AddMetricsCommand,   dmc::cli::AddConvertCommand, dmc::cli::AddSynthCommand,
       dmc::cli::AddLaplacianCommand, dmc::cli::AddSweepCommand,   dmc::cli::AddViewCommand,
+      dmc::cli::AddEditCommand,
   };
   std::vector<dmc::cli::Command> commands;
   for (AddCommand add : table) commands.push_back(add(app));
