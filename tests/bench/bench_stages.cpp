@@ -47,7 +47,7 @@ struct StageFixture {
   const MeshSequence* sequence = nullptr;
   MeshTopology topology;
   std::vector<int32_t> vertex_order;
-  Eigen::MatrixXd trajectories;
+  SegmentTrajectories trajectories;
   Eigen::MatrixXd coefficients;
   LaplaceOperator fitted;   // the DDL fit, before weight quantisation
   SegmentSyntax syntax;     // dequantised elements, as the decoder rebuilds them
@@ -89,7 +89,7 @@ const StageFixture& Fixture(int resolution) {
   const int v_count = sequence.vertex_count();
   s.topology = BuildTopology(sequence.triangles(), v_count);
   s.vertex_order = format::BreadthFirstOrder(s.topology);
-  s.trajectories = TrajectoryMatrix(sequence, 0, kStageFrames);
+  s.trajectories = GatherTrajectories(sequence, 0, kStageFrames);
   const SegmentPca pca = ComputeSegmentPca(s.trajectories);
 
   const double diagonal = ComputeBoundingBox(sequence).diagonal();
@@ -114,7 +114,7 @@ const StageFixture& Fixture(int resolution) {
   syntax::WriteMean(pca.mean, h, &s.syntax.mean);
   syntax::WriteBasis(pca.eigenvectors.leftCols(rank), h, &s.syntax.basis);
   const Eigen::MatrixXd projected =
-      (s.trajectories.rowwise() - s.syntax.mean.transpose()) * s.syntax.basis;
+      ProjectTrajectories(s.trajectories, s.syntax.mean, s.syntax.basis);
   s.coefficients =
       (s.syntax.basis.transpose() * s.syntax.basis).ldlt().solve(projected.transpose()).transpose();
   OperatorOptions operator_options;
@@ -142,7 +142,7 @@ void BM_StagePca(benchmark::State& state) {
   const StageFixture& s = Fixture(static_cast<int>(state.range(0)));
   PeakMemory memory;
   for (auto _ : state) {
-    const Eigen::MatrixXd trajectories = TrajectoryMatrix(*s.sequence, 0, kStageFrames);
+    const SegmentTrajectories trajectories = GatherTrajectories(*s.sequence, 0, kStageFrames);
     SegmentPca pca = ComputeSegmentPca(trajectories);
     benchmark::DoNotOptimize(pca.eigenvalues.data());
   }
@@ -249,7 +249,8 @@ void BM_StageBasisMultiply(benchmark::State& state) {
   std::vector<float> frames(static_cast<size_t>(s.sequence->vertex_count()) * kStageFrames * 3);
   PeakMemory memory;
   for (auto _ : state) {
-    SynthesizeFrames(s.syntax.mean, s.syntax.basis, s.coefficients, kStageFrames, frames.data());
+    (void)SynthesizeFrames(s.syntax.mean, s.syntax.basis, s.coefficients, kStageFrames,
+                           frames.data());
     benchmark::DoNotOptimize(frames.data());
   }
   StageCounters(state, s, memory);

@@ -118,6 +118,10 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_option("--weight-bits", o.weight_bits, "DDL weight step 2^-bits")->capture_default_str();
   app->add_option("--ddl-mu", o.ddl_regularization, "DDL Tikhonov pull toward Tutte")
       ->capture_default_str();
+  app->add_option("--ddl-dead-zone", o.ddl_dead_zone,
+                  "DDL weights this close to their prediction (weight units) are sent as "
+                  "predicted: 0.5 = rounding, inf = predicted only, 0 = choose per segment")
+      ->capture_default_str();
   app->add_flag("--uniform-weight-prediction", o.weight_prediction_uniform,
                 "DDL weights predicted by the thesis's uniform share, not the degree reference");
   app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");

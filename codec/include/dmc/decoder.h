@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -66,6 +67,13 @@ class Decoder {
   const Triangles& triangles() const { return triangles_; }
   // Thread-safe: segments may be decoded concurrently.
   StatusOr<MeshSequence> DecodeSegment(int index) const;
+
+  // Where a segment's frames go: called once per segment, only after its syntax has been decoded
+  // and its coefficients solved, so a caller can defer allocating the output until the stream
+  // has proved it holds real data. Returns the segment's first float (F_s × V × 3 values).
+  using FrameDestination = std::function<StatusOr<float*>(int segment_index)>;
+  // Decodes segment `index` into the memory `destination` hands out. Thread-safe.
+  Status DecodeSegmentInto(int index, const FrameDestination& destination) const;
 
  private:
   struct ChunkRef {

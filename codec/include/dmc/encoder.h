@@ -35,6 +35,10 @@ struct EncoderOptions {
   int reference_bits = 10;  // geometric operators: reference frame step = diagonal · 2^-bits
   int weight_bits = 7;      // DDL weight step 2^-weight_bits
   double ddl_regularization = 0.1;  // DDL Tikhonov pull toward Tutte (relative)
+  // DDL weights within this many units of their prediction are sent as the prediction (0.5 =
+  // plain rounding; infinity = predicted weights only). 0 = per segment, whichever of the two
+  // costs less in rate–distortion terms.
+  double ddl_dead_zone = 0.0;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
   bool weight_prediction_uniform = false;

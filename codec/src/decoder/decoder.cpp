@@ -4,6 +4,8 @@
 
 #include <fstream>
 #include <iterator>
+#include <mutex>
+#include <optional>
 #include <string>
 
 #include "bitstream/format.h"
@@ -209,7 +211,7 @@ Status Decoder::Open(std::span<const uint8_t> stream) {
   return Status::Ok();
 }
 
-StatusOr<MeshSequence> Decoder::DecodeSegment(int index) const {
+Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination) const {
   if (index < 0 || index >= segment_count()) {
     return InvalidArgumentError("segment " + std::to_string(index) + " does not exist (" +
                                 std::to_string(segment_count()) + " segments)");
@@ -232,16 +234,26 @@ StatusOr<MeshSequence> Decoder::DecodeSegment(int index) const {
       syntax::ReadAnchors(payload(4), info_.vertex_count, syntax).WithContext(where + "anchors"));
   DMC_RETURN_IF_ERROR(syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
                           .WithContext(where + "residuals"));
-  MeshSequence sequence(info_.vertex_count, triangles_, info.frame_count);
-  sequence.name = info_.name;
-  sequence.frame_rate = info_.frame_rate;
   Eigen::MatrixXd coefficients(info_.vertex_count, syntax.header.rank);
   if (syntax.header.rank > 0) {
     DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
     DMC_ASSIGN_OR_RETURN(coefficients, ReconstructCoefficients(topology, laplace, syntax));
   }
-  SynthesizeFrames(syntax.mean, syntax.basis, coefficients, info.frame_count, sequence.data());
-  return sequence;
+  syntax.delta.resize(0, 0);  // the largest syntax element, no longer needed
+  DMC_ASSIGN_OR_RETURN(float* frames, destination(index));
+  return SynthesizeFrames(syntax.mean, syntax.basis, coefficients, info.frame_count, frames)
+      .WithContext(where + "frames");
+}
+
+StatusOr<MeshSequence> Decoder::DecodeSegment(int index) const {
+  std::optional<MeshSequence> sequence;
+  DMC_RETURN_IF_ERROR(DecodeSegmentInto(index, [&](int s) -> StatusOr<float*> {
+    sequence.emplace(info_.vertex_count, triangles_, info_.segments[s].frame_count);
+    return sequence->data();
+  }));
+  sequence->name = info_.name;
+  sequence->frame_rate = info_.frame_rate;
+  return std::move(*sequence);
 }
 
 StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream) {
@@ -254,22 +266,25 @@ StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream) {
   Decoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Open(stream));
   const StreamInfo& info = decoder.info();
-  MeshSequence sequence(info.vertex_count, decoder.triangles(), info.frame_count);
+  // The output (12·V·F bytes) is allocated only once a segment has decoded and solved, so a tiny
+  // stream declaring a huge mesh fails before it costs that memory.
+  std::mutex output_mutex;
+  std::optional<MeshSequence> sequence;
+  auto destination = [&](int s) -> StatusOr<float*> {
+    std::lock_guard<std::mutex> lock(output_mutex);
+    if (!sequence) sequence.emplace(info.vertex_count, decoder.triangles(), info.frame_count);
+    return sequence->data() + static_cast<size_t>(info.segments[s].first_frame) *
+                                  static_cast<size_t>(info.vertex_count) * 3;
+  };
   // Segments are independent: decode them in parallel into their own frame ranges.
   std::vector<Status> statuses(decoder.segment_count());
-  tbb::parallel_for(0, decoder.segment_count(), [&](int s) {
-    StatusOr<MeshSequence> part = decoder.DecodeSegment(s);
-    if (!part.ok()) {
-      statuses[s] = part.status();
-      return;
-    }
-    const size_t offset = static_cast<size_t>(info.segments[s].first_frame) * info.vertex_count * 3;
-    std::copy(part->data(), part->data() + part->position_value_count(), sequence.data() + offset);
-  });
+  tbb::parallel_for(0, decoder.segment_count(),
+                    [&](int s) { statuses[s] = decoder.DecodeSegmentInto(s, destination); });
   for (const Status& status : statuses) DMC_RETURN_IF_ERROR(status);
-  sequence.name = info.name;
-  sequence.frame_rate = info.frame_rate;
-  return sequence;
+  if (!sequence) sequence.emplace(info.vertex_count, decoder.triangles(), info.frame_count);
+  sequence->name = info.name;
+  sequence->frame_rate = info.frame_rate;
+  return std::move(*sequence);
 }
 
 StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path) {

@@ -1,6 +1,11 @@
 #include "decoder/segment_reconstruction.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "bitstream/syntax.h"
@@ -39,25 +44,51 @@ StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
   return solver.Solve(syntax.delta, syntax.anchor_values);
 }
 
-void SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis,
-                      const Eigen::MatrixXd& coefficients, int frame_count, float* frames) {
+Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis,
+                        const Eigen::MatrixXd& coefficients, int frame_count, float* frames) {
   const Eigen::Index v_count = coefficients.rows();
-  // trajectories(v, 3f + axis): one GEMM, then the mean trajectory added per column.
-  Eigen::MatrixXd trajectories(v_count, 3 * frame_count);
-  if (basis.cols() > 0) {
-    trajectories.noalias() = coefficients * basis.transpose();
-  } else {
-    trajectories.setZero();
-  }
-  trajectories.rowwise() += mean.transpose();
-  for (int f = 0; f < frame_count; ++f) {
-    float* frame = frames + static_cast<size_t>(f) * v_count * 3;
-    for (Eigen::Index v = 0; v < v_count; ++v) {
-      for (int axis = 0; axis < 3; ++axis) {
-        frame[v * 3 + axis] = static_cast<float>(trajectories(v, 3 * f + axis));
+  const Eigen::Index width = 3 * static_cast<Eigen::Index>(frame_count);
+  // Fixed-size vertex blocks: each block's trajectories are one small GEMM, so the decoder never
+  // holds the V×3F binary64 matrix (twice the float32 output), and the partition — hence every
+  // rounding — is the same for any thread count.
+  constexpr Eigen::Index kBlockRows = 256;
+  const Eigen::Index block_count = (v_count + kBlockRows - 1) / kBlockRows;
+  std::atomic<Eigen::Index> first_bad_vertex{v_count};
+  tbb::parallel_for(Eigen::Index{0}, block_count, [&](Eigen::Index block) {
+    const Eigen::Index begin = block * kBlockRows;
+    const Eigen::Index rows = std::min(kBlockRows, v_count - begin);
+    Eigen::MatrixXd trajectories(rows, width);
+    if (basis.cols() > 0) {
+      trajectories.noalias() = coefficients.middleRows(begin, rows) * basis.transpose();
+    } else {
+      trajectories.setZero();
+    }
+    trajectories.rowwise() += mean.transpose();
+    constexpr double kFloatMax = std::numeric_limits<float>::max();
+    bool in_range = true;
+    for (int f = 0; f < frame_count; ++f) {
+      float* frame = frames + (static_cast<size_t>(f) * v_count + begin) * 3;
+      for (Eigen::Index v = 0; v < rows; ++v) {
+        for (int axis = 0; axis < 3; ++axis) {
+          const double x = trajectories(v, 3 * f + axis);
+          // NaN fails both comparisons; values that round to ±FLT_MAX are still representable.
+          in_range = in_range && std::abs(x) <= kFloatMax;
+          frame[v * 3 + axis] = static_cast<float>(x);
+        }
       }
     }
+    if (!in_range) {
+      Eigen::Index expected = first_bad_vertex.load();
+      while (begin < expected && !first_bad_vertex.compare_exchange_weak(expected, begin)) {
+      }
+    }
+  });
+  if (first_bad_vertex.load() < v_count) {
+    return CorruptStreamError("reconstructed positions near vertex " +
+                              std::to_string(first_bad_vertex.load()) +
+                              " are not finite or exceed the float32 range");
   }
+  return Status::Ok();
 }
 
 }  // namespace dmc

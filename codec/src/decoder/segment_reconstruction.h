@@ -35,8 +35,9 @@ StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
                                                   const SegmentSyntax& syntax);
 
 // positions(v, 3f + axis) = mean(3f + axis) + Σ_k C(v, k) basis(3f + axis, k), written as float
-// frames into `frames` (frame_count × V × 3, frame after frame).
-void SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis,
-                      const Eigen::MatrixXd& coefficients, int frame_count, float* frames);
+// frames into `frames` (frame_count × V × 3, frame after frame). kCorruptStream when a position is
+// not finite or exceeds the float32 range (spec §10.2); `frames` is then partly written.
+Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis,
+                        const Eigen::MatrixXd& coefficients, int frame_count, float* frames);
 
 }  // namespace dmc

@@ -8,35 +8,50 @@
 
 namespace dmc {
 
-Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count,
-                                 const std::vector<int32_t>& relabel) {
+namespace {
+
+// Row blocks of a fixed size: per-block partial results combined in block order are the same
+// for any thread count.
+constexpr Eigen::Index kRowBlock = 4096;
+
+Eigen::Index RowBlocks(Eigen::Index rows) { return (rows + kRowBlock - 1) / kRowBlock; }
+
+}  // namespace
+
+SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_frame,
+                                       int frame_count, const std::vector<int32_t>& relabel) {
   const int v_count = sequence.vertex_count();
-  Eigen::MatrixXd x(v_count, 3 * frame_count);
+  SegmentTrajectories x(v_count, 3 * frame_count);
   for (int f = 0; f < frame_count; ++f) {
     const auto frame = sequence.frame(first_frame + f);
     if (relabel.empty()) {
-      x.middleCols(3 * f, 3) = frame.cast<double>();
+      x.middleCols(3 * f, 3) = frame;
     } else {
-      for (int v = 0; v < v_count; ++v)
-        x.block(v, 3 * f, 1, 3) = frame.row(relabel[v]).cast<double>();
+      for (int v = 0; v < v_count; ++v) x.block(v, 3 * f, 1, 3) = frame.row(relabel[v]);
     }
   }
   return x;
 }
 
-SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories) {
+SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
   SegmentPca pca;
   const Eigen::Index rows = trajectories.rows(), cols = trajectories.cols();
-  pca.mean = trajectories.colwise().mean().transpose();
-  // Gram matrix over fixed blocks of rows, each computed independently, then summed in block
-  // order: the result does not depend on how TBB schedules the blocks.
-  constexpr Eigen::Index kBlock = 4096;
-  const Eigen::Index blocks = (rows + kBlock - 1) / kBlock;
+  const Eigen::Index blocks = RowBlocks(rows);
+  std::vector<Eigen::VectorXd> partial_sums(blocks);
+  tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
+    const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
+    partial_sums[b] =
+        trajectories.middleRows(start, count).cast<double>().colwise().sum().transpose();
+  });
+  pca.mean = Eigen::VectorXd::Zero(cols);
+  for (const auto& p : partial_sums) pca.mean += p;
+  if (rows > 0) pca.mean /= static_cast<double>(rows);
+
   std::vector<Eigen::MatrixXd> partial(blocks);
   tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
-    const Eigen::Index start = b * kBlock, count = std::min(kBlock, rows - start);
+    const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
     const Eigen::MatrixXd centred =
-        trajectories.middleRows(start, count).rowwise() - pca.mean.transpose();
+        trajectories.middleRows(start, count).cast<double>().rowwise() - pca.mean.transpose();
     partial[b] = Eigen::MatrixXd::Zero(cols, cols);
     partial[b].selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
   });
@@ -47,6 +62,28 @@ SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories) {
   pca.eigenvalues = solver.eigenvalues().reverse().cwiseMax(0.0);
   pca.eigenvectors = solver.eigenvectors().rowwise().reverse();
   return pca;
+}
+
+Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
+                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis) {
+  const Eigen::Index rows = trajectories.rows();
+  Eigen::MatrixXd projected(rows, basis.cols());
+  tbb::parallel_for(Eigen::Index{0}, RowBlocks(rows), [&](Eigen::Index b) {
+    const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
+    projected.middleRows(start, count).noalias() =
+        (trajectories.middleRows(start, count).cast<double>().rowwise() - mean.transpose()) * basis;
+  });
+  return projected;
+}
+
+Eigen::MatrixXd MeanShape(const SegmentTrajectories& trajectories) {
+  const Eigen::Index frames = trajectories.cols() / 3;
+  Eigen::MatrixXd shape = Eigen::MatrixXd::Zero(trajectories.rows(), 3);
+  for (Eigen::Index f = 0; f < frames; ++f) {
+    shape += trajectories.middleCols(3 * f, 3).cast<double>();
+  }
+  if (frames > 0) shape /= static_cast<double>(frames);
+  return shape;
 }
 
 }  // namespace dmc

@@ -12,10 +12,13 @@
 
 namespace dmc {
 
-// V × 3F trajectories of frames [first_frame, first_frame + frame_count), in double. With a
-// non-empty `relabel`, row i holds input vertex relabel[i] (the codec's vertex order).
-Eigen::MatrixXd TrajectoryMatrix(const MeshSequence& sequence, int first_frame, int frame_count,
-                                 const std::vector<int32_t>& relabel = {});
+// V × 3F trajectories of frames [first_frame, first_frame + frame_count), kept in float32: they
+// are the input's own values, so nothing is lost, and the encoder holds half the memory of a
+// double copy. Everything computed from them is computed in double. With a non-empty `relabel`,
+// row i holds input vertex relabel[i] (the codec's vertex order).
+using SegmentTrajectories = Eigen::MatrixXf;
+SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_frame,
+                                       int frame_count, const std::vector<int32_t>& relabel = {});
 
 struct SegmentPca {
   Eigen::VectorXd mean;          // 3F: mean over vertices of the trajectories
@@ -23,7 +26,14 @@ struct SegmentPca {
   Eigen::MatrixXd eigenvectors;  // 3F × 3F, columns in the order of eigenvalues
 };
 
-// Deterministic for any thread count (the Gram matrix is summed over fixed row blocks in order).
-SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories);
+// Deterministic for any thread count (sums run over fixed row blocks, added in block order).
+SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories);
+
+// (X − 1·meanᵀ)·basis, V × r, in double over fixed row blocks.
+Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
+                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis);
+
+// The mean shape over the segment's frames, V × 3.
+Eigen::MatrixXd MeanShape(const SegmentTrajectories& trajectories);
 
 }  // namespace dmc

@@ -109,7 +109,7 @@ std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::Segm
 std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
                                      const MeshTopology& topology, int weight_bits,
                                      format::WeightPrediction prediction_mode,
-                                     std::vector<int64_t>* decoded) {
+                                     std::vector<int64_t>* decoded, double dead_zone) {
   RangeEncoder encoder;
   format::WeightContexts contexts;
   const int64_t unit_sum = int64_t{1} << weight_bits;
@@ -127,7 +127,8 @@ std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
         const int64_t prediction =
             format::PredictWeight(prediction_mode, unit_sum - sum, topology,
                                   std::span<const int32_t>(visit.unknown_edges).subspan(j));
-        weight = std::llround(edge_weights[e] * scale);
+        const double offset = edge_weights[e] * scale - static_cast<double>(prediction);
+        weight = std::abs(offset) <= dead_zone ? prediction : prediction + std::llround(offset);
         encoder.EncodeSigned(contexts.by_unknown[std::min(unknown, 5) - 2], weight - prediction);
       } else {
         weight = unit_sum - sum;

@@ -31,12 +31,14 @@ std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::Segm
                                 Eigen::MatrixXd* decoded);
 
 // Quantises DDL edge weights along the shared weight schedule: explicit weights are rounded to
-// units of 2^-weight_bits, the last weight of each visit is implied by the unit sum. Returns the
+// units of 2^-weight_bits, the last weight of each visit is implied by the unit sum. A weight
+// within `dead_zone` units of its prediction is sent as the prediction (residual 0, the cheapest
+// symbol): 0.5 is plain rounding, infinity sends the predicted weights alone. Returns the
 // integer weights the decoder will rebuild.
 std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
                                      const MeshTopology& topology, int weight_bits,
                                      format::WeightPrediction prediction_mode,
-                                     std::vector<int64_t>* decoded);
+                                     std::vector<int64_t>* decoded, double dead_zone = 0.5);
 
 // Quantises a reference frame (V×3) to the grid of `step` and codes it with one-ring mean
 // prediction in BreadthFirstOrder; returns the payload (f64 step + range-coded residuals) and the

@@ -14,6 +14,7 @@
 #include <variant>
 
 #include "dmc/operators.h"
+#include "solvers/blas_threads.h"
 
 namespace dmc {
 namespace {
@@ -126,6 +127,7 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
 
   const std::string what = "factoring the " + SizeText(matrix) + " normal matrix";
   if (impl->backend == SolverBackend::kCholmod) {
+    ScopedSingleThreadedBlas single_threaded_blas;
     impl->cholmod = std::make_unique<CholmodLlt>(CholmodOrdering(options.ordering, matrix.rows()));
     impl->cholmod->analyzePattern(impl->matrix);
     if (impl->cholmod->info() != Eigen::Success) {
@@ -168,8 +170,13 @@ StatusOr<Eigen::MatrixXd> SparseSpdSolver::Solve(const Eigen::MatrixXd& rhs) con
   }
   if (rhs.cols() == 0) return Eigen::MatrixXd(rhs.rows(), 0);
   if (!rhs.allFinite()) return InvalidArgumentError("right-hand side is not finite");
-  Eigen::MatrixXd solution = impl_->cholmod ? Eigen::MatrixXd(impl_->cholmod->solve(rhs))
-                                            : Eigen::MatrixXd(impl_->ldlt->solve(rhs));
+  Eigen::MatrixXd solution;
+  if (impl_->cholmod) {
+    ScopedSingleThreadedBlas single_threaded_blas;
+    solution = impl_->cholmod->solve(rhs);
+  } else {
+    solution = impl_->ldlt->solve(rhs);
+  }
   if (!solution.allFinite())
     return NumericalFailureError("sparse solve produced non-finite values");
   // The self-adjoint view reads the lower triangle only, like both factorisations.
