@@ -85,6 +85,26 @@ Properties MatrixProperties(const SparseMatrixD& matrix) {
   return p;
 }
 
+// The keys every operator report shares, spacetime or not.
+nlohmann::json PropertiesJson(const Properties& p, const LaplacianArgs& args) {
+  nlohmann::json document = {
+      {"symmetry_error", p.symmetry_error},
+      {"max_row_sum", p.max_row_sum},
+      {"diagonal_min", p.diagonal_min},
+      {"diagonal_max", p.diagonal_max},
+      {"negative_weight_share", p.negative_weight_share},
+      {"delta_mean", p.delta_mean},
+      {"delta_max", p.delta_max},
+      {"cholesky_ok", p.cholesky_ok ? nlohmann::json(*p.cholesky_ok) : nlohmann::json()},
+      {"conditioning_delta",
+       p.conditioning_delta ? nlohmann::json(*p.conditioning_delta) : nlohmann::json()},
+      {"anchors", p.anchor_set.size()},
+      {"perturbation", args.perturbation},
+  };
+  if (!p.conditioning_error.empty()) document["conditioning_error"] = p.conditioning_error;
+  return document;
+}
+
 // ‖δ‖ per vertex and frame, δ = L·X_f on the sequence's positions.
 void DeltaStatistics(const SparseMatrixD& matrix, const MeshSequence& sequence, Properties& p) {
   const Eigen::MatrixXd delta = matrix * TrajectoryMatrix(sequence);
@@ -242,16 +262,6 @@ int RunSpacetimeLaplacian(const LaplacianArgs& args) {
   if (args.json) {
     nlohmann::json document = {
         {"operator", "spacetime"},
-        {"symmetry_error", p.symmetry_error},
-        {"max_row_sum", p.max_row_sum},
-        {"diagonal_min", p.diagonal_min},
-        {"diagonal_max", p.diagonal_max},
-        {"negative_weight_share", p.negative_weight_share},
-        {"delta_mean", p.delta_mean},
-        {"delta_max", p.delta_max},
-        {"cholesky_ok", *p.cholesky_ok},
-        {"conditioning_delta",
-         p.conditioning_delta ? nlohmann::json(*p.conditioning_delta) : nlohmann::json()},
         {"seconds", seconds},
         {"vertices", v_count},
         {"frames", f_count},
@@ -264,14 +274,12 @@ int RunSpacetimeLaplacian(const LaplacianArgs& args) {
         {"temporal_coupling_max", coupling_max},
         {"symmetric", true},
         {"unit_sum", false},
-        {"anchors", p.anchor_set.size()},
-        {"perturbation", args.perturbation},
         {"stats",
          {{"short_spatial_edges", s.short_spatial_edges},
           {"empty_vertex_duals", s.empty_vertex_duals},
           {"clamped_cotangents", s.clamped_cotangents}}},
     };
-    if (!p.conditioning_error.empty()) document["conditioning_error"] = p.conditioning_error;
+    document.update(PropertiesJson(p, args));
     PrintJson(document);
     return 0;
   }
@@ -449,16 +457,6 @@ int RunLaplacian(const LaplacianArgs& args) {
   if (args.json) {
     nlohmann::json document = {
         {"operator", op->name},
-        {"symmetry_error", p.symmetry_error},
-        {"max_row_sum", p.max_row_sum},
-        {"diagonal_min", p.diagonal_min},
-        {"diagonal_max", p.diagonal_max},
-        {"negative_weight_share", p.negative_weight_share},
-        {"delta_mean", p.delta_mean},
-        {"delta_max", p.delta_max},
-        {"cholesky_ok", p.cholesky_ok ? nlohmann::json(*p.cholesky_ok) : nlohmann::json()},
-        {"conditioning_delta",
-         p.conditioning_delta ? nlohmann::json(*p.conditioning_delta) : nlohmann::json()},
         {"seconds", seconds},
         {"pca_seconds", pca_seconds},
         {"vertices", sequence->vertex_count()},
@@ -467,8 +465,6 @@ int RunLaplacian(const LaplacianArgs& args) {
         {"mu", args.mu},
         {"symmetric", op->symmetric},
         {"unit_sum", op->unit_sum},
-        {"anchors", p.anchor_set.size()},
-        {"perturbation", args.perturbation},
         {"stats",
          {{"clamped_cotangents", s.clamped_cotangents},
           {"degenerate_triangles", s.degenerate_triangles},
@@ -481,7 +477,7 @@ int RunLaplacian(const LaplacianArgs& args) {
           {"fit_residual", s.fit_residual},
           {"constraint_error", s.constraint_error}}},
     };
-    if (!p.conditioning_error.empty()) document["conditioning_error"] = p.conditioning_error;
+    document.update(PropertiesJson(p, args));
     PrintJson(document);
     return 0;
   }
