@@ -18,10 +18,19 @@ namespace {
 enum class PlyEncoding { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 enum class PlyNumber { kInteger, kReal, kUnknown };
 
+// A PLY scalar type: what it holds and how a binary body stores it.
+struct PlyType {
+  PlyNumber kind = PlyNumber::kUnknown;
+  int bytes = 0;
+  bool is_signed = false;
+};
+
 struct PlyProperty {
   std::string name;
   PlyNumber value_kind = PlyNumber::kReal;
+  int value_bytes = 4;
   bool is_list = false;  // the count of a list is always an integer
+  PlyType count_type;    // only for lists
 };
 
 struct PlyElement {
@@ -38,15 +47,25 @@ struct PlyHeader {
   double frame_rate = 0.0;
 };
 
-PlyNumber NumberKind(std::string_view type) {
-  for (std::string_view integer : {"char", "uchar", "short", "ushort", "int", "uint", "int8",
-                                   "uint8", "int16", "uint16", "int32", "uint32"}) {
-    if (type == integer) return PlyNumber::kInteger;
+PlyType TypeOf(std::string_view name) {
+  struct Entry {
+    std::string_view name;
+    PlyType type;
+  };
+  static constexpr Entry kTypes[] = {
+      {"char", {PlyNumber::kInteger, 1, true}},     {"int8", {PlyNumber::kInteger, 1, true}},
+      {"uchar", {PlyNumber::kInteger, 1, false}},   {"uint8", {PlyNumber::kInteger, 1, false}},
+      {"short", {PlyNumber::kInteger, 2, true}},    {"int16", {PlyNumber::kInteger, 2, true}},
+      {"ushort", {PlyNumber::kInteger, 2, false}},  {"uint16", {PlyNumber::kInteger, 2, false}},
+      {"int", {PlyNumber::kInteger, 4, true}},      {"int32", {PlyNumber::kInteger, 4, true}},
+      {"uint", {PlyNumber::kInteger, 4, false}},    {"uint32", {PlyNumber::kInteger, 4, false}},
+      {"float", {PlyNumber::kReal, 4, true}},       {"float32", {PlyNumber::kReal, 4, true}},
+      {"double", {PlyNumber::kReal, 8, true}},      {"float64", {PlyNumber::kReal, 8, true}},
+  };
+  for (const Entry& entry : kTypes) {
+    if (entry.name == name) return entry.type;
   }
-  for (std::string_view real : {"float", "double", "float32", "float64"}) {
-    if (type == real) return PlyNumber::kReal;
-  }
-  return PlyNumber::kUnknown;
+  return {};
 }
 
 Status LineError(int line, const std::string& what) {
@@ -118,13 +137,15 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
       if (type == "list") {
         std::string_view count_type;
         property.is_list = true;
-        if (!tokens.Next(count_type) || NumberKind(count_type) != PlyNumber::kInteger ||
-            !tokens.Next(type)) {
+        if (tokens.Next(count_type)) property.count_type = TypeOf(count_type);
+        if (property.count_type.kind != PlyNumber::kInteger || !tokens.Next(type)) {
           return LineError(lines.line_number(),
                            "expected 'property list <integer type> <type> <name>'");
         }
       }
-      property.value_kind = NumberKind(type);
+      const PlyType value_type = TypeOf(type);
+      property.value_kind = value_type.kind;
+      property.value_bytes = value_type.bytes;
       if (property.value_kind == PlyNumber::kUnknown || !tokens.Next(name)) {
         return LineError(lines.line_number(), "expected 'property <type> <name>' with a PLY type");
       }
@@ -135,6 +156,13 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
     }
   }
   if (!have_format) return ParseError("the header has no 'format' line");
+  for (const PlyElement& element : header.elements) {
+    // Such an element occupies no bytes, so its count is not bounded by the file's size.
+    if (element.count > 0 && element.properties.empty()) {
+      return ParseError("element '" + element.name + "' declares " +
+                        std::to_string(element.count) + " entries but no properties");
+    }
+  }
   header.body_offset = lines.position();
   header.body_first_line = lines.line_number() + 1;
   return header;
@@ -337,7 +365,64 @@ std::mutex& OpenMeshReaderMutex() {
   return mutex;
 }
 
+// Reads an integer of the given PLY type at `at` in a binary body.
+int64_t ReadBinaryInteger(std::string_view body, size_t at, const PlyType& type,
+                          bool big_endian) {
+  uint64_t raw = 0;
+  for (int i = 0; i < type.bytes; ++i) {
+    const int byte_index = big_endian ? i : type.bytes - 1 - i;
+    raw = (raw << 8) | static_cast<unsigned char>(body[at + static_cast<size_t>(byte_index)]);
+  }
+  if (type.is_signed && type.bytes < 8 && (raw >> (type.bytes * 8 - 1)) != 0) {
+    return static_cast<int64_t>(raw) - (int64_t{1} << (type.bytes * 8));
+  }
+  return static_cast<int64_t>(raw);
+}
+
+// Walks the binary body with the header's layout and list counts and checks that it holds exactly
+// the declared elements. OpenMesh's reader does not stop at the end of its input: with a short
+// body it keeps adding the declared number of vertices and faces (and lists of whatever length
+// the bytes past the end decode to), so a small hostile file could make it allocate gigabytes.
+// After this walk, everything it reads is inside the body.
+Status CheckBinaryLayout(std::string_view body, const PlyHeader& header) {
+  const bool big_endian = header.encoding == PlyEncoding::kBinaryBigEndian;
+  size_t at = 0;
+  for (const PlyElement& element : header.elements) {
+    for (int64_t i = 0; i < element.count; ++i) {
+      for (const PlyProperty& property : element.properties) {
+        const auto truncated = [&] {
+          return ParseError("the binary PLY body ends inside element '" + element.name + "' " +
+                            std::to_string(i) + " of " + std::to_string(element.count) +
+                            " (property '" + property.name + "')");
+        };
+        uint64_t values = 1;
+        if (property.is_list) {
+          const size_t count_bytes = static_cast<size_t>(property.count_type.bytes);
+          if (body.size() - at < count_bytes) return truncated();
+          const int64_t count = ReadBinaryInteger(body, at, property.count_type, big_endian);
+          if (count < 0) {
+            return ParseError("element '" + element.name + "' " + std::to_string(i) +
+                              ": list '" + property.name + "' has a negative length " +
+                              std::to_string(count));
+          }
+          at += count_bytes;
+          values = static_cast<uint64_t>(count);
+        }
+        const uint64_t value_bytes = static_cast<uint64_t>(property.value_bytes);
+        if (values > (body.size() - at) / value_bytes) return truncated();
+        at += static_cast<size_t>(values * value_bytes);
+      }
+    }
+  }
+  if (at != body.size()) {
+    return ParseError("the binary PLY body has " + std::to_string(body.size() - at) +
+                      " byte(s) after the last declared element");
+  }
+  return Status::Ok();
+}
+
 StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& header) {
+  DMC_RETURN_IF_ERROR(CheckBinaryLayout(bytes.substr(header.body_offset), header));
   VerbatimImporter importer;
   bool read_ok = false;
   {

@@ -94,6 +94,9 @@ struct BadInput {
   ErrorCode code;
   std::string message;  // expected substring, after "<path>"
 };
+// Test names show the expected error rather than the struct's bytes.
+void PrintTo(const BadInput& input, std::ostream* out) { *out << input.message; }
+
 
 class ObjErrorTest : public ::testing::TestWithParam<BadInput> {};
 
@@ -292,8 +295,55 @@ TEST(PlyParserTest, RejectsTruncatedBinary) {
   auto sequence = ReadText(dir, "cut.ply", BinaryPly(false, true));
   ASSERT_FALSE(sequence.ok());
   EXPECT_EQ(sequence.status().code(), ErrorCode::kParseError);
-  EXPECT_THAT(sequence.status().message(), HasSubstr("cut.ply: the binary PLY body is truncated"));
+  EXPECT_THAT(sequence.status().message(),
+              HasSubstr("cut.ply: the binary PLY body ends inside element 'face' 1 of 2"));
 }
+
+// Hostile binary headers: OpenMesh's reader would keep reading past the body's end, so each of
+// these must be refused before it runs, with an error naming the problem.
+struct HostileBinaryPly {
+  std::string header_and_body;
+  std::string expected_message;
+};
+void PrintTo(const HostileBinaryPly& input, std::ostream* out) { *out << input.expected_message; }
+
+class PlyBinaryLayoutTest : public ::testing::TestWithParam<HostileBinaryPly> {};
+
+TEST_P(PlyBinaryLayoutTest, IsRefusedWithANamedError) {
+  ScratchDir dir;
+  auto sequence = ReadText(dir, "hostile.ply", GetParam().header_and_body);
+  ASSERT_FALSE(sequence.ok());
+  EXPECT_EQ(sequence.status().code(), ErrorCode::kParseError);
+  EXPECT_THAT(sequence.status().message(), HasSubstr(GetParam().expected_message));
+}
+
+const std::string kBinaryVertexHeader =
+    "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+    "property float y\nproperty float z\n";
+
+INSTANTIATE_TEST_SUITE_P(
+    Hostile, PlyBinaryLayoutTest,
+    ::testing::Values(
+        // 700 million vertices declared, twelve bytes given.
+        HostileBinaryPly{"ply\nformat binary_little_endian 1.0\nelement vertex 700000000\n"
+                         "property float x\nproperty float y\nproperty float z\nend_header\n" +
+                             std::string(12, '\0'),
+                         "ends inside element 'vertex' 1 of 700000000"},
+        // A face list claiming 2^31 - 1 corners.
+        HostileBinaryPly{kBinaryVertexHeader +
+                             "element face 1\nproperty list int int vertex_indices\nend_header\n" +
+                             std::string(12, '\0') + std::string("\xff\xff\xff\x7f", 4),
+                         "ends inside element 'face' 0 of 1 (property 'vertex_indices')"},
+        HostileBinaryPly{kBinaryVertexHeader +
+                             "element face 1\nproperty list int int vertex_indices\nend_header\n" +
+                             std::string(12, '\0') + std::string("\xff\xff\xff\xff", 4),
+                         "list 'vertex_indices' has a negative length -1"},
+        // Entries without properties occupy no bytes, so nothing bounds their count.
+        HostileBinaryPly{kBinaryVertexHeader + "element face 600000000\nend_header\n" +
+                             std::string(12, '\0'),
+                         "element 'face' declares 600000000 entries but no properties"},
+        HostileBinaryPly{kBinaryVertexHeader + "end_header\n" + std::string(13, '\0'),
+                         "1 byte(s) after the last declared element"}));
 
 }  // namespace
 }  // namespace dmc
