@@ -91,4 +91,19 @@ class Decoder {
 
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path);
 
+// Progress of a streaming decode: frames written so far and the frame count; one call at a time,
+// possibly from a worker thread.
+using DecodeProgressCallback = std::function<void(int frames_done, int frames_total)>;
+
+// Decodes `stream` segment by segment into the PC2 cache `output` and its connectivity mesh
+// <stem>.obj beside it: byte for byte the files WriteSequence(Decode(stream), output) writes, but
+// holding at most `segments_in_flight` decoded segments (12·V·F_s bytes each, plus each one's
+// factorisation while it decodes) instead of the whole sequence. Segments decode concurrently
+// when segments_in_flight > 1 and are written in order. Both files are written under temporary
+// names and renamed into place at the end, the mesh first; on any failure (a damaged stream, a
+// full disk) neither is left behind and existing files are untouched. Errors: those of Decode,
+// kIoError for the files, kInvalidArgument for segments_in_flight < 1.
+Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
+                   const DecodeProgressCallback& progress = {}, int segments_in_flight = 1);
+
 }  // namespace dmc

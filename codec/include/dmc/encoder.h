@@ -6,11 +6,18 @@
 // EncoderOptions::measure is set it decodes its own stream with the real decoder, so the reported
 // KG/STED are exactly those of `dmc decode`'s output. Output bytes are identical for identical
 // input and options, whatever the thread count.
+//
+// Streaming (EncodeStreaming): the same stream, byte for byte, from a FrameSource that hands out
+// frames on demand (a PC2 cache read incrementally, say), holding one segment's trajectories at a
+// time instead of the whole sequence.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dmc/metrics.h"
@@ -74,5 +81,84 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
 // Encodes and writes atomically (temporary file, then rename).
 Status EncodeToFile(const MeshSequence& sequence, const std::filesystem::path& output,
                     const EncoderOptions& options, EncodeReport* report = nullptr);
+
+// Where the streaming encoder gets a sequence: its shape up front, its positions on demand.
+// Contract for implementations: the counts, triangles, name and frame rate do not change, and
+// ReadFrames returns the same values every time it is asked for the same frames (the encoder
+// reads the sequence more than once: a scan for the bounding box, then segment by segment, then
+// again to measure). ReadFrames is never called concurrently.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual int vertex_count() const = 0;
+  virtual int frame_count() const = 0;
+  virtual const Triangles& triangles() const = 0;
+  virtual double frame_rate() const = 0;        // frames per second; 0 when unknown
+  virtual const std::string& name() const = 0;  // stored in the stream's header
+  // Copies frames [first, first + count) into `out`: count × V × 3 floats, frame after frame (the
+  // MeshSequence layout). Errors name the source and frame at fault.
+  virtual Status ReadFrames(int first, int count, float* out) = 0;
+};
+
+// A MeshSequence as a FrameSource. Keeps a reference: the sequence must outlive the source.
+class SequenceFrameSource final : public FrameSource {
+ public:
+  explicit SequenceFrameSource(const MeshSequence& sequence) : sequence_(sequence) {}
+  int vertex_count() const override { return sequence_.vertex_count(); }
+  int frame_count() const override { return sequence_.frame_count(); }
+  const Triangles& triangles() const override { return sequence_.triangles(); }
+  double frame_rate() const override { return sequence_.frame_rate; }
+  const std::string& name() const override { return sequence_.name; }
+  Status ReadFrames(int first, int count, float* out) override;
+
+ private:
+  const MeshSequence& sequence_;
+};
+
+// A PC2 point cache read frame block by frame block (never whole), with the triangles of
+// `connectivity` (empty: the first of <stem>.obj, .off, .ply beside the cache, as ReadSequence
+// does). Same name (the cache's stem) and frame rate (mesh frame rate / sampleRate when both are
+// known, else 0) as ReadSequence gives the same input, so the stream is the same too. Open checks
+// the header against the file size and the mesh's vertex count against the cache's (kParseError,
+// kMismatch); reading the connectivity mesh may add warnings (fan triangulation, degenerate
+// triangles) to `warnings`. ReadFrames fails with kInvalidSequence ("frame 7 (<path>), vertex 3:
+// coordinate y is not finite") on a non-finite value and with kParseError naming the path and the
+// frame when the file has been cut since it was opened.
+StatusOr<std::unique_ptr<FrameSource>> OpenPc2FrameSource(
+    const std::filesystem::path& cache, const std::filesystem::path& connectivity = {},
+    std::vector<std::string>* warnings = nullptr);
+
+// What EncodeStreaming is doing, for progress displays: scanning the input (bounding box and, when
+// measuring, the metrics' reference values), encoding segments, measuring (decoding each segment
+// and comparing it with the input).
+enum class EncodeStage { kScan, kEncode, kMeasure };
+std::string_view EncodeStageName(EncodeStage stage);  // "scanning", "encoding", "measuring"
+
+// Called with the frames done so far in `stage` and the frame count after each block of work (each
+// segment when encoding and measuring); one call at a time, possibly from a worker thread.
+using EncodeProgressCallback =
+    std::function<void(EncodeStage stage, int frames_done, int frames_total)>;
+
+struct StreamingEncodeOptions {
+  EncodeProgressCallback progress;
+  // Segments encoded concurrently. Each holds its trajectories (12·V·F_s bytes) and its operator
+  // fit (about 3.7 KB per vertex for DDL) while encoding, so 1 bounds memory best; more use more
+  // threads on multi-segment sequences. The bytes are the same for any value.
+  int segments_in_flight = 1;
+};
+
+// Encodes `source` to `output` segment by segment: the header and connectivity first, then each
+// segment's chunks as soon as it is encoded, into a temporary file beside `output` that is renamed
+// over it only when everything (including the measurement) succeeded; on failure nothing is left
+// and an existing `output` is untouched. The bytes are exactly Encode()'s for the same sequence and
+// options, and so is the report; with options.measure the stream is decoded segment by segment
+// with the real decoder and KG/STED/RMSE are accumulated over segments, equal to Encode()'s.
+// Memory: `segments_in_flight` segments' trajectories and fits, plus, when measuring, one
+// segment of decoded and original frames; never the whole sequence.
+// Rate control (target_bpfv / target_sted) encodes the whole sequence a dozen times and is refused
+// with kUnsupported: use Encode() for it.
+Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
+                       const EncoderOptions& options, EncodeReport* report = nullptr,
+                       const StreamingEncodeOptions& streaming = {});
 
 }  // namespace dmc

@@ -1,12 +1,17 @@
 #include "dmc/encoder.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
+#include <span>
 #include <string>
 
 #include "bitstream/format.h"
@@ -17,8 +22,10 @@
 #include "dmc/operators.h"
 #include "encoder/connectivity_encoder.h"
 #include "encoder/segment_pca.h"
+#include "encoder/streaming_distortion.h"
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
+#include "io/pc2_stream.h"
 
 namespace dmc {
 namespace {
@@ -201,19 +208,17 @@ struct SegmentResult {
   int anchors = 0;
 };
 
-// Encodes one segment into `out` in closed loop: every quantity after a quantiser uses the
-// decoder's reconstruction of it.
-StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTopology& topology,
+// Encodes one segment (its trajectories, in the codec's vertex order) into `out` in closed loop:
+// every quantity after a quantiser uses the decoder's reconstruction of it.
+StatusOr<SegmentResult> EncodeSegment(const SegmentTrajectories& trajectories,
+                                      const MeshTopology& topology,
                                       const std::vector<int32_t>& vertex_order,
-                                      const std::vector<int32_t>& relabel,
                                       const EncoderOptions& options, OperatorId operator_id,
                                       double diagonal, double residual_step, int first_frame,
-                                      int frame_count, ByteWriter& out) {
-  const int v_count = sequence.vertex_count();
-  const SegmentTrajectories trajectories =
-      GatherTrajectories(sequence, first_frame, frame_count, relabel);
+                                      ByteWriter& out) {
+  const int v_count = static_cast<int>(trajectories.rows());
+  const int frame_count = static_cast<int>(trajectories.cols() / 3);
   const SegmentPca pca = ComputeSegmentPca(trajectories);
-
   SegmentSyntax syntax;
   format::SegmentHeader& h = syntax.header;
   h.first_frame = static_cast<uint32_t>(first_frame);
@@ -318,95 +323,139 @@ StatusOr<SegmentResult> EncodeSegment(const MeshSequence& sequence, const MeshTo
   return result;
 }
 
-StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
-                                          const ConnectivityCode& connectivity,
-                                          const MeshTopology& topology,
-                                          const EncoderOptions& options, double diagonal,
-                                          EncodeReport* report) {
-  DMC_ASSIGN_OR_RETURN(const OperatorId operator_id, CodecOperatorId(options.operator_name));
-  const double residual_step = options.residual_step > 0.0
-                                   ? options.residual_step
-                                   : std::ldexp(diagonal, -options.residual_bits);
-  const int frames = sequence.frame_count();
+// What every encode of a sequence derives from its shape, options and bounding box.
+struct StreamPlan {
+  OperatorId operator_id = OperatorId::kDdl;
+  double diagonal = 0.0;
+  double residual_step = 0.0;
+  int frames = 0;
+  // Equal-sized segments (differing by at most one frame): segment s holds frames
+  // [segment_first[s], segment_first[s + 1]).
+  std::vector<int> segment_first;
+  int segments() const { return static_cast<int>(segment_first.size()) - 1; }
+  int segment_frames(int s) const { return segment_first[s + 1] - segment_first[s]; }
+};
+
+StatusOr<StreamPlan> PlanStream(int frames, double diagonal, const EncoderOptions& options) {
+  StreamPlan plan;
+  DMC_ASSIGN_OR_RETURN(plan.operator_id, CodecOperatorId(options.operator_name));
+  plan.diagonal = diagonal;
+  plan.residual_step = options.residual_step > 0.0 ? options.residual_step
+                                                   : std::ldexp(diagonal, -options.residual_bits);
+  plan.frames = frames;
   const int segment_limit =
       options.segment_frames > 0 ? options.segment_frames : kDefaultSegmentFrames;
   const int segments = (frames + segment_limit - 1) / segment_limit;
+  plan.segment_first.assign(segments + 1, 0);
+  for (int s = 0; s < segments; ++s) {
+    plan.segment_first[s + 1] =
+        plan.segment_first[s] + frames / segments + (s < frames % segments ? 1 : 0);
+  }
+  return plan;
+}
 
+// Magic, version, the sequence header chunk and the connectivity chunk.
+std::vector<uint8_t> StreamPrefix(int vertex_count, int triangle_count, const std::string& name,
+                                  double frame_rate, const StreamPlan& plan,
+                                  const ConnectivityCode& connectivity,
+                                  format::ChunkSizes& totals) {
   ByteWriter out;
   for (uint8_t byte : format::kMagic) out.PutU8(byte);
   out.PutU8(format::kVersionMajor);
   out.PutU8(format::kVersionMinor);
   out.PutU8(0);  // reserved
   format::SequenceHeader header;
-  header.vertex_count = static_cast<uint32_t>(sequence.vertex_count());
-  header.triangle_count = static_cast<uint32_t>(sequence.triangle_count());
-  header.frame_count = static_cast<uint32_t>(frames);
-  header.segment_count = static_cast<uint32_t>(segments);
-  header.frame_rate = sequence.frame_rate;
-  header.name = sequence.name;
+  header.vertex_count = static_cast<uint32_t>(vertex_count);
+  header.triangle_count = static_cast<uint32_t>(triangle_count);
+  header.frame_count = static_cast<uint32_t>(plan.frames);
+  header.segment_count = static_cast<uint32_t>(plan.segments());
+  header.frame_rate = frame_rate;
+  header.name = name;
   if (!connectivity.vertex_order.empty()) header.flags |= format::kFlagReordered;
-  format::ChunkSizes totals;
-  size_t before = out.size();
   syntax::AppendChunk(out, format::ChunkType::kSequenceHeader, syntax::WriteSequenceHeader(header));
   totals.header += out.size();  // includes magic and version
-  before = out.size();
+  const size_t before = out.size();
   syntax::AppendChunk(out, format::ChunkType::kConnectivity, connectivity.payload);
   totals.connectivity += out.size() - before;
+  return out.Take();
+}
+
+// The end chunk: it counts the chunks before it (sequence header, connectivity, 6 per segment).
+std::vector<uint8_t> StreamEnd(const StreamPlan& plan, format::ChunkSizes& totals) {
+  ByteWriter count;
+  count.PutVarU(static_cast<uint64_t>(2 + 6 * plan.segments()));
+  ByteWriter out;
+  syntax::AppendChunk(out, format::ChunkType::kEnd, count.bytes());
+  totals.header += out.size();
+  return out.Take();
+}
+
+void AddSegmentSizes(const SegmentResult& segment, format::ChunkSizes& totals) {
+  totals.header += segment.sizes.header;
+  totals.mean += segment.sizes.mean;
+  totals.basis += segment.sizes.basis;
+  totals.operator_info += segment.sizes.operator_info;
+  totals.anchors += segment.sizes.anchors;
+  totals.residuals += segment.sizes.residuals;
+}
+
+// The report's rate fields (rank and anchors are the first segment's, set as it is added).
+void FillRateReport(const StreamPlan& plan, int vertex_count, uint64_t bytes,
+                    const format::ChunkSizes& totals, EncodeReport& report) {
+  report.bytes = bytes;
+  report.frames = plan.frames;
+  report.vertices = vertex_count;
+  report.bpfv =
+      8.0 * static_cast<double>(bytes) / (static_cast<double>(plan.frames) * vertex_count);
+  report.header_bytes = totals.header;
+  report.connectivity_bytes = totals.connectivity;
+  report.mean_bytes = totals.mean;
+  report.basis_bytes = totals.basis;
+  report.operator_bytes = totals.operator_info;
+  report.anchor_bytes = totals.anchors;
+  report.residual_bytes = totals.residuals;
+  report.residual_step = plan.residual_step;
+  report.residual_bits_equivalent =
+      static_cast<int>(std::lround(std::log2(plan.diagonal / plan.residual_step)));
+  report.segments = plan.segments();
+}
+
+StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
+                                          const ConnectivityCode& connectivity,
+                                          const MeshTopology& topology,
+                                          const EncoderOptions& options, double diagonal,
+                                          EncodeReport* report) {
+  DMC_ASSIGN_OR_RETURN(const StreamPlan plan,
+                       PlanStream(sequence.frame_count(), diagonal, options));
+  format::ChunkSizes totals;
+  ByteWriter out;
+  out.PutBytes(StreamPrefix(sequence.vertex_count(), sequence.triangle_count(), sequence.name,
+                            sequence.frame_rate, plan, connectivity, totals));
 
   const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
-  // Equal-sized segments (differing by at most one frame), encoded in parallel into their own
-  // buffers and concatenated in order: the bytes do not depend on the thread count.
-  std::vector<int> segment_first(segments + 1, 0);
-  for (int s = 0; s < segments; ++s) {
-    segment_first[s + 1] = segment_first[s] + frames / segments + (s < frames % segments ? 1 : 0);
-  }
+  // Segments encoded in parallel into their own buffers and concatenated in order: the bytes do
+  // not depend on the thread count.
+  const int segments = plan.segments();
   std::vector<ByteWriter> segment_bytes(segments);
   std::vector<StatusOr<SegmentResult>> segment_results(segments, InternalError("not encoded"));
   tbb::parallel_for(0, segments, [&](int s) {
-    segment_results[s] = EncodeSegment(
-        sequence, topology, vertex_order, connectivity.vertex_order, options, operator_id, diagonal,
-        residual_step, segment_first[s], segment_first[s + 1] - segment_first[s], segment_bytes[s]);
+    const SegmentTrajectories trajectories = GatherTrajectories(
+        sequence, plan.segment_first[s], plan.segment_frames(s), connectivity.vertex_order);
+    segment_results[s] =
+        EncodeSegment(trajectories, topology, vertex_order, options, plan.operator_id, diagonal,
+                      plan.residual_step, plan.segment_first[s], segment_bytes[s]);
   });
-  int chunk_count = 2;
   for (int s = 0; s < segments; ++s) {
     DMC_ASSIGN_OR_RETURN(SegmentResult segment, std::move(segment_results[s]));
     out.PutBytes(segment_bytes[s].bytes());
-    totals.header += segment.sizes.header;
-    totals.mean += segment.sizes.mean;
-    totals.basis += segment.sizes.basis;
-    totals.operator_info += segment.sizes.operator_info;
-    totals.anchors += segment.sizes.anchors;
-    totals.residuals += segment.sizes.residuals;
+    AddSegmentSizes(segment, totals);
     if (s == 0 && report) {
       report->rank = segment.rank;
       report->anchors = segment.anchors;
     }
-    chunk_count += 6;
   }
-  ByteWriter end;
-  end.PutVarU(static_cast<uint64_t>(chunk_count));
-  before = out.size();
-  syntax::AppendChunk(out, format::ChunkType::kEnd, end.bytes());
-  totals.header += out.size() - before;
-
-  if (report) {
-    report->bytes = out.size();
-    report->frames = frames;
-    report->vertices = sequence.vertex_count();
-    report->bpfv = 8.0 * static_cast<double>(out.size()) /
-                   (static_cast<double>(frames) * sequence.vertex_count());
-    report->header_bytes = totals.header;
-    report->connectivity_bytes = totals.connectivity;
-    report->mean_bytes = totals.mean;
-    report->basis_bytes = totals.basis;
-    report->operator_bytes = totals.operator_info;
-    report->anchor_bytes = totals.anchors;
-    report->residual_bytes = totals.residuals;
-    report->residual_step = residual_step;
-    report->residual_bits_equivalent =
-        static_cast<int>(std::lround(std::log2(diagonal / residual_step)));
-    report->segments = segments;
-  }
+  out.PutBytes(StreamEnd(plan, totals));
+  if (report) FillRateReport(plan, sequence.vertex_count(), out.size(), totals, *report);
   return out.Take();
 }
 
@@ -434,6 +483,67 @@ Status Measure(const MeshSequence& sequence, const std::vector<uint8_t>& bytes,
   return Status::Ok();
 }
 
+Status CheckFormatLimits(int vertex_count, int frame_count) {
+  if (static_cast<uint64_t>(frame_count) > format::kMaxFrames ||
+      static_cast<uint64_t>(vertex_count) > format::kMaxVertices) {
+    return UnsupportedError("sequence exceeds the format's limits");
+  }
+  return Status::Ok();
+}
+
+// ---- Streaming ---------------------------------------------------------------------------------
+
+// Frames per read of the scan and measure passes: blocks of about 32 MiB.
+int FramesPerRead(int vertex_count, int frame_count) {
+  constexpr size_t kReadBytes = size_t{32} << 20;
+  const size_t frame_bytes = static_cast<size_t>(vertex_count) * 3 * sizeof(float);
+  return static_cast<int>(
+      std::clamp<size_t>(kReadBytes / frame_bytes, 1, static_cast<size_t>(frame_count)));
+}
+
+// kInvalidSequence naming frame, vertex and coordinate, as ValidateSequence words it.
+Status CheckFiniteFrames(const float* values, int first_frame, int frames, int vertex_count) {
+  const size_t per_frame = static_cast<size_t>(vertex_count) * 3;
+  const size_t count = per_frame * static_cast<size_t>(frames);
+  for (size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(values[i])) {
+      return InvalidSequenceError("frame " + std::to_string(first_frame + i / per_frame) +
+                                  ", vertex " + std::to_string((i % per_frame) / 3) +
+                                  ": coordinate " + "xyz"[i % 3] + " is not finite");
+    }
+  }
+  return Status::Ok();
+}
+
+// One segment travelling through the streaming encoder's pipeline.
+struct SegmentWork {
+  int index = 0;
+  Status read = Status::Ok();
+  SegmentTrajectories trajectories;
+  ByteWriter bytes;
+  StatusOr<SegmentResult> result = InternalError("not encoded");
+};
+
+// Reads frames [first, first + count) of the source, in blocks, into a segment's trajectories.
+Status ReadSegmentTrajectories(FrameSource& source, int first, int count,
+                               const std::vector<int32_t>& relabel, std::vector<float>& block,
+                               SegmentTrajectories& trajectories) {
+  const int v_count = source.vertex_count();
+  const size_t per_frame = static_cast<size_t>(v_count) * 3;
+  const int frames_per_read = FramesPerRead(v_count, count);
+  trajectories.resize(v_count, 3 * static_cast<Eigen::Index>(count));
+  block.resize(per_frame * static_cast<size_t>(frames_per_read));
+  for (int done = 0; done < count; done += frames_per_read) {
+    const int frames = std::min(frames_per_read, count - done);
+    DMC_RETURN_IF_ERROR(source.ReadFrames(first + done, frames, block.data()));
+    for (int f = 0; f < frames; ++f) {
+      StoreFrame(block.data() + per_frame * static_cast<size_t>(f), done + f, relabel,
+                 trajectories);
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,
@@ -441,10 +551,7 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
   const auto start = std::chrono::steady_clock::now();
   DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
   DMC_RETURN_IF_ERROR(ValidateOptions(options));
-  if (static_cast<uint64_t>(sequence.frame_count()) > format::kMaxFrames ||
-      static_cast<uint64_t>(sequence.vertex_count()) > format::kMaxVertices) {
-    return UnsupportedError("sequence exceeds the format's limits");
-  }
+  DMC_RETURN_IF_ERROR(CheckFormatLimits(sequence.vertex_count(), sequence.frame_count()));
   // Connectivity first: the rest of the stream uses the decoder's vertex labels and topology.
   DMC_ASSIGN_OR_RETURN(
       const ConnectivityCode connectivity,
@@ -516,6 +623,216 @@ Status EncodeToFile(const MeshSequence& sequence, const std::filesystem::path& o
                     const EncoderOptions& options, EncodeReport* report) {
   DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, Encode(sequence, options, report));
   return WriteFileAtomically(output, bytes);
+}
+
+Status SequenceFrameSource::ReadFrames(int first, int count, float* out) {
+  if (first < 0 || count < 0 || first > sequence_.frame_count() - count) {
+    return InvalidArgumentError("frames [" + std::to_string(first) + ", " +
+                                std::to_string(first + count) + ") are outside the sequence's " +
+                                std::to_string(sequence_.frame_count()) + " frames");
+  }
+  if (count > 0) {
+    const size_t per_frame = static_cast<size_t>(sequence_.vertex_count()) * 3;
+    std::copy_n(sequence_.frame(first).data(), per_frame * static_cast<size_t>(count), out);
+  }
+  return Status::Ok();
+}
+
+std::string_view EncodeStageName(EncodeStage stage) {
+  switch (stage) {
+    case EncodeStage::kScan:
+      return "scanning";
+    case EncodeStage::kEncode:
+      return "encoding";
+    case EncodeStage::kMeasure:
+      return "measuring";
+  }
+  return "?";
+}
+
+Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
+                       const EncoderOptions& options, EncodeReport* report,
+                       const StreamingEncodeOptions& streaming) {
+  const auto start = std::chrono::steady_clock::now();
+  DMC_RETURN_IF_ERROR(ValidateOptions(options));
+  if (options.target_bpfv > 0.0 || options.target_sted > 0.0) {
+    return UnsupportedError(
+        "--target-bpfv and --target-sted search over whole-sequence encodes and are not "
+        "available when streaming; load the sequence and use Encode()");
+  }
+  if (streaming.segments_in_flight < 1) {
+    return InvalidArgumentError("segments in flight must be >= 1");
+  }
+  const int v_count = source.vertex_count();
+  const int frames = source.frame_count();
+  const Triangles& triangles = source.triangles();
+  auto progress = [&](EncodeStage stage, int done) {
+    if (streaming.progress) streaming.progress(stage, done, frames);
+  };
+
+  // The checks ValidateSequence makes, on frame 0 here (counts, triangle indices) and on every
+  // frame's values during the scan.
+  if (v_count <= 0 || frames <= 0) {
+    return InvalidSequenceError(v_count <= 0 ? "the sequence has no vertices"
+                                             : "the sequence has no frames");
+  }
+  DMC_RETURN_IF_ERROR(CheckFormatLimits(v_count, frames));
+  const size_t per_frame = static_cast<size_t>(v_count) * 3;
+  std::vector<float> frame0(per_frame);
+  DMC_RETURN_IF_ERROR(source.ReadFrames(0, 1, frame0.data()));
+  {
+    MeshSequence first(v_count, triangles, 1);
+    std::copy(frame0.begin(), frame0.end(), first.data());
+    DMC_RETURN_IF_ERROR(ValidateSequence(first));
+  }
+  DMC_ASSIGN_OR_RETURN(const ConnectivityCode connectivity,
+                       EncodeConnectivity(triangles, v_count, options.allow_reorder));
+  // Created before the long passes so that an unwritable output fails at once.
+  DMC_ASSIGN_OR_RETURN(io_internal::StagedFile file, io_internal::StagedFile::Create(output));
+
+  // Scan: the bounding box (the residual step derives from its diagonal), finiteness, and the
+  // original-only terms of the metrics.
+  std::optional<StreamingDistortion> meter;
+  if (options.measure) {
+    DMC_ASSIGN_OR_RETURN(meter,
+                         StreamingDistortion::Create(triangles, v_count, frames, frame0.data()));
+  }
+  frame0 = {};
+  BoundingBox box;
+  box.min.setConstant(std::numeric_limits<double>::infinity());
+  box.max.setConstant(-std::numeric_limits<double>::infinity());
+  {
+    const int frames_per_read = FramesPerRead(v_count, frames);
+    std::vector<float> block(per_frame * static_cast<size_t>(frames_per_read));
+    for (int done = 0; done < frames; done += frames_per_read) {
+      const int count = std::min(frames_per_read, frames - done);
+      DMC_RETURN_IF_ERROR(source.ReadFrames(done, count, block.data()));
+      DMC_RETURN_IF_ERROR(CheckFiniteFrames(block.data(), done, count, v_count));
+      for (int f = 0; f < count; ++f) {
+        const float* data = block.data() + per_frame * static_cast<size_t>(f);
+        const Eigen::Map<const FramePositions> positions(data, v_count, 3);
+        box.min = box.min.cwiseMin(positions.colwise().minCoeff().cast<double>().transpose());
+        box.max = box.max.cwiseMax(positions.colwise().maxCoeff().cast<double>().transpose());
+        if (meter) meter->AddOriginalFrame(data);
+      }
+      progress(EncodeStage::kScan, done + count);
+    }
+  }
+  if (meter) DMC_RETURN_IF_ERROR(meter->FinishOriginal());
+
+  const double diagonal = std::max(box.diagonal(), 1e-12);
+  DMC_ASSIGN_OR_RETURN(const StreamPlan plan, PlanStream(frames, diagonal, options));
+  const MeshTopology topology = BuildTopology(connectivity.triangles, v_count);
+  const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
+  EncodeReport local;
+  EncodeReport& out = report ? *report : local;
+  out = EncodeReport();
+
+  // The measurement decodes the finished stream, so keep a copy when measuring (it is the
+  // compressed size, a small fraction of the input).
+  std::vector<uint8_t> stream;
+  format::ChunkSizes totals;
+  auto write = [&](std::span<const uint8_t> bytes) -> Status {
+    if (options.measure) stream.insert(stream.end(), bytes.begin(), bytes.end());
+    return file.Append(bytes);
+  };
+  DMC_RETURN_IF_ERROR(write(StreamPrefix(v_count, static_cast<int>(triangles.rows()), source.name(),
+                                         source.frame_rate(), plan, connectivity, totals)));
+
+  // Segments through a pipeline: read (serial, in order) -> encode (parallel, at most
+  // segments_in_flight at once) -> write (serial, in order).
+  Status failure = Status::Ok();
+  std::atomic<bool> failed{false};
+  int next_segment = 0;
+  std::vector<float> read_block;
+  tbb::parallel_pipeline(
+      static_cast<size_t>(streaming.segments_in_flight),
+      tbb::make_filter<void, std::shared_ptr<SegmentWork>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& control) -> std::shared_ptr<SegmentWork> {
+            if (failed.load() || next_segment == plan.segments()) {
+              control.stop();
+              return nullptr;
+            }
+            auto work = std::make_shared<SegmentWork>();
+            work->index = next_segment++;
+            work->read = ReadSegmentTrajectories(
+                source, plan.segment_first[work->index], plan.segment_frames(work->index),
+                connectivity.vertex_order, read_block, work->trajectories);
+            return work;
+          }) &
+          tbb::make_filter<std::shared_ptr<SegmentWork>, std::shared_ptr<SegmentWork>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<SegmentWork> work) {
+                if (!work->read.ok()) {
+                  work->result = work->read;
+                } else if (!failed.load()) {
+                  work->result = EncodeSegment(work->trajectories, topology, vertex_order, options,
+                                               plan.operator_id, diagonal, plan.residual_step,
+                                               plan.segment_first[work->index], work->bytes);
+                }
+                work->trajectories = SegmentTrajectories();  // free before the write stage
+                return work;
+              }) &
+          tbb::make_filter<std::shared_ptr<SegmentWork>, void>(
+              tbb::filter_mode::serial_in_order, [&](std::shared_ptr<SegmentWork> work) {
+                if (failed.load()) return;
+                Status status = work->result.status();
+                if (status.ok()) status = write(work->bytes.bytes());
+                if (!status.ok()) {
+                  failure = status;
+                  failed.store(true);
+                  return;
+                }
+                AddSegmentSizes(*work->result, totals);
+                if (work->index == 0) {
+                  out.rank = work->result->rank;
+                  out.anchors = work->result->anchors;
+                }
+                progress(EncodeStage::kEncode, plan.segment_first[work->index + 1]);
+              }));
+  DMC_RETURN_IF_ERROR(failure);
+  DMC_RETURN_IF_ERROR(write(StreamEnd(plan, totals)));
+  FillRateReport(plan, v_count, file.size(), totals, out);
+
+  if (meter) {
+    // Decode each segment with the real decoder, back in input vertex labels, and compare it with
+    // the input frames it needs (the segment and the STED speed window around it).
+    Decoder decoder;
+    DMC_RETURN_IF_ERROR(decoder.Open(stream).WithContext("decoding the encoded stream"));
+    const std::vector<int32_t>& relabel = connectivity.vertex_order;
+    std::vector<float> decoded, restored, original;
+    for (int s = 0; s < plan.segments(); ++s) {
+      const int first = plan.segment_first[s], count = plan.segment_frames(s);
+      DMC_RETURN_IF_ERROR(decoder.DecodeSegmentInto(s, [&](int) -> StatusOr<float*> {
+        decoded.resize(per_frame * static_cast<size_t>(count));
+        return decoded.data();
+      }));
+      if (!relabel.empty()) {
+        restored.resize(decoded.size());
+        for (size_t f = 0; f < static_cast<size_t>(count); ++f) {
+          const float* from = decoded.data() + f * per_frame;
+          float* to = restored.data() + f * per_frame;
+          for (int v = 0; v < v_count; ++v) {
+            std::copy_n(from + 3 * static_cast<size_t>(v), 3,
+                        to + 3 * static_cast<size_t>(relabel[v]));
+          }
+        }
+        decoded.swap(restored);
+      }
+      const auto [window_first, window_end] = meter->OriginalWindow(first, count);
+      original.resize(per_frame * static_cast<size_t>(window_end - window_first));
+      DMC_RETURN_IF_ERROR(
+          source.ReadFrames(window_first, window_end - window_first, original.data()));
+      DMC_RETURN_IF_ERROR(meter->AddSegment(first, count, original.data(), decoded.data()));
+      progress(EncodeStage::kMeasure, first + count);
+    }
+    DMC_ASSIGN_OR_RETURN(out.distortion, meter->Report());
+    out.measured = true;
+  }
+  DMC_RETURN_IF_ERROR(file.Commit());
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return Status::Ok();
 }
 
 }  // namespace dmc

@@ -18,17 +18,24 @@ Eigen::Index RowBlocks(Eigen::Index rows) { return (rows + kRowBlock - 1) / kRow
 
 }  // namespace
 
+void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
+                SegmentTrajectories& trajectories) {
+  const Eigen::Index v_count = trajectories.rows();
+  const Eigen::Map<const FramePositions> frame(positions, v_count, 3);
+  if (relabel.empty()) {
+    trajectories.middleCols(3 * frame_in_segment, 3) = frame;
+  } else {
+    for (Eigen::Index v = 0; v < v_count; ++v) {
+      trajectories.block(v, 3 * frame_in_segment, 1, 3) = frame.row(relabel[v]);
+    }
+  }
+}
+
 SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_frame,
                                        int frame_count, const std::vector<int32_t>& relabel) {
-  const int v_count = sequence.vertex_count();
-  SegmentTrajectories x(v_count, 3 * frame_count);
+  SegmentTrajectories x(sequence.vertex_count(), 3 * frame_count);
   for (int f = 0; f < frame_count; ++f) {
-    const auto frame = sequence.frame(first_frame + f);
-    if (relabel.empty()) {
-      x.middleCols(3 * f, 3) = frame;
-    } else {
-      for (int v = 0; v < v_count; ++v) x.block(v, 3 * f, 1, 3) = frame.row(relabel[v]);
-    }
+    StoreFrame(sequence.frame(first_frame + f).data(), f, relabel, x);
   }
   return x;
 }

@@ -20,6 +20,12 @@ using SegmentTrajectories = Eigen::MatrixXf;
 SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_frame,
                                        int frame_count, const std::vector<int32_t>& relabel = {});
 
+// Stores one frame (V × 3 floats, the MeshSequence layout) as columns 3f, 3f + 1, 3f + 2 of
+// `trajectories`, relabelled as GatherTrajectories does: the streaming encoder fills a segment's
+// trajectories frame by frame with exactly the values GatherTrajectories copies.
+void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
+                SegmentTrajectories& trajectories);
+
 struct SegmentPca {
   Eigen::VectorXd mean;          // 3F: mean over vertices of the trajectories
   Eigen::VectorXd eigenvalues;   // descending, ≥ 0: squared singular values of the centred data
