@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "dmc/status.h"
 
@@ -19,10 +20,14 @@ void ReportWarning(std::string_view command, std::string_view text);
 // Pretty-prints a JSON document on stdout.
 void PrintJson(const nlohmann::json& document);
 
-// Progress on stderr, only when stderr is a terminal; silent otherwise so logs stay clean.
+// Progress on stderr ("\r<label>  42%", a newline when destroyed), only when stderr is a terminal
+// or when forced (a --progress flag); silent otherwise so logs stay clean.
 class Progress {
  public:
   Progress(std::string label, long total);
+  Progress(std::string label, long total, bool force) : Progress(std::move(label), total) {
+    enabled_ = enabled_ || force;
+  }
   void Update(long done);
   ~Progress();
 

@@ -1,6 +1,11 @@
 // dmc decode: reconstruct a mesh sequence from a .dmc stream.
 #include <fmt/format.h>
 
+#include <cctype>
+#include <filesystem>
+#include <optional>
+#include <string>
+
 #include "cli_util.h"
 #include "commands.h"
 #include "dmc/decoder.h"
@@ -16,11 +21,45 @@ struct DecodeArgs {
   std::string glb_layout = "auto";
   int segment = -1;
   bool json = false;
+  bool progress = false;
 };
+
+bool IsPc2(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".pc2";
+}
 
 int RunDecode(const DecodeArgs& args) {
   auto bytes = ReadFileBytes(args.input);
   if (!bytes.ok()) return ReportError("decode", bytes.status(), args.json);
+  std::optional<Progress> progress;
+  auto show = [&](int done, int total) {
+    if (!progress) progress.emplace("decoding", total, args.progress);
+    progress->Update(done);
+  };
+
+  if (args.segment < 0 && IsPc2(args.output)) {
+    // A PC2 cache is written segment by segment as they decode: the whole sequence is never in
+    // memory. Two segments in flight keep both cores busy (the factorisation of one segment is
+    // single-threaded) for twice one segment's memory.
+    const Status status = DecodeToPc2(*bytes, args.output, show, 2);
+    progress.reset();
+    if (!status.ok()) return ReportError("decode", status.WithContext(args.input), args.json);
+    auto info = ReadStreamInfo(*bytes);
+    if (!info.ok()) return ReportError("decode", info.status().WithContext(args.input), args.json);
+    if (args.json) {
+      PrintJson({{"output", args.output},
+                 {"frames", info->frame_count},
+                 {"vertices", info->vertex_count},
+                 {"triangles", info->triangle_count}});
+    } else {
+      fmt::print("{}: {} frames x {} vertices, {} triangles\n", args.output, info->frame_count,
+                 info->vertex_count, info->triangle_count);
+    }
+    return 0;
+  }
+
   StatusOr<MeshSequence> sequence = InternalError("unset");
   if (args.segment >= 0) {
     Decoder decoder;
@@ -28,7 +67,10 @@ int RunDecode(const DecodeArgs& args) {
     if (!open.ok()) return ReportError("decode", open.WithContext(args.input), args.json);
     sequence = decoder.DecodeSegment(args.segment);
   } else {
+    show(0, 1);
     sequence = Decode(*bytes);
+    if (sequence.ok()) show(1, 1);
+    progress.reset();
   }
   if (!sequence.ok()) {
     return ReportError("decode", sequence.status().WithContext(args.input), args.json);
@@ -36,7 +78,13 @@ int RunDecode(const DecodeArgs& args) {
   WriteOptions write_options;
   write_options.frame_format = args.frame_format;
   write_options.glb_layout = args.glb_layout;
+  std::optional<Progress> write_progress;
+  write_options.progress = [&](int done, int total) {
+    if (!write_progress) write_progress.emplace("writing", total, args.progress);
+    write_progress->Update(done);
+  };
   const Status written = WriteSequence(*sequence, args.output, write_options);
+  write_progress.reset();
   if (!written.ok()) return ReportError("decode", written, args.json);
   if (args.json) {
     PrintJson({{"output", args.output},
@@ -66,6 +114,8 @@ Command AddDecodeCommand(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--segment", args->segment, "Decode only this segment (0-based)");
   app->add_flag("--json", args->json, "Machine-readable output");
+  app->add_flag("--progress", args->progress,
+                "Show progress on stderr even when it is not a terminal");
   return {app, [args] { return RunDecode(*args); }};
 }
 

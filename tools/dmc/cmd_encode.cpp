@@ -1,6 +1,15 @@
 // dmc encode: compress a mesh sequence to a .dmc stream and report rate and distortion.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
 #include "cli_util.h"
 #include "commands.h"
 #include "dmc/encoder.h"
@@ -16,19 +25,70 @@ struct EncodeArgs {
   EncoderOptions options;
   bool no_measure = false;
   bool json = false;
+  bool progress = false;
 };
 
-int RunEncode(const EncodeArgs& args) {
+bool IsPc2(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".pc2";
+}
+
+// Encodes with EncodeStreaming: a PC2 cache is read segment by segment (memory bounded by one
+// segment); other inputs are read whole first and encoded several segments at a time. The bytes
+// are Encode()'s either way. Rate control needs whole-sequence encodes, so it goes through
+// EncodeToFile on the loaded sequence instead.
+Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, EncodeReport& report) {
+  std::optional<Progress> progress;
+  std::string progress_label;
+  auto show = [&](const std::string& label, int done, int total) {
+    if (label != progress_label) {
+      progress.reset();  // finishes the previous stage's line
+      progress.emplace(label, total, args.progress);
+      progress_label = label;
+    }
+    progress->Update(done);
+  };
+  const bool rate_control = options.target_bpfv > 0.0 || options.target_sted > 0.0;
+  if (IsPc2(args.input) && !rate_control) {
+    std::vector<std::string> warnings;
+    DMC_ASSIGN_OR_RETURN(std::unique_ptr<FrameSource> source,
+                         OpenPc2FrameSource(args.input, args.connectivity, &warnings));
+    for (const auto& warning : warnings) ReportWarning("encode", warning);
+    StreamingEncodeOptions streaming;
+    streaming.progress = [&](EncodeStage stage, int done, int total) {
+      show(std::string(EncodeStageName(stage)), done, total);
+    };
+    return EncodeStreaming(*source, args.output, options, &report, streaming);
+  }
   ReadOptions read_options;
   read_options.connectivity = args.connectivity;
+  read_options.progress = [&](int done, int total) { show("reading", done, total); };
   ReadReport read_report;
-  auto sequence = ReadSequence(args.input, read_options, &read_report);
-  if (!sequence.ok()) return ReportError("encode", sequence.status(), args.json);
+  DMC_ASSIGN_OR_RETURN(const MeshSequence sequence,
+                       ReadSequence(args.input, read_options, &read_report));
   for (const auto& warning : read_report.warnings) ReportWarning("encode", warning);
+  if (rate_control) {
+    show("encoding (rate search)", 0, 1);
+    DMC_RETURN_IF_ERROR(EncodeToFile(sequence, args.output, options, &report));
+    show("encoding (rate search)", 1, 1);
+    return Status::Ok();
+  }
+  SequenceFrameSource source(sequence);
+  StreamingEncodeOptions streaming;
+  streaming.segments_in_flight =
+      static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  streaming.progress = [&](EncodeStage stage, int done, int total) {
+    show(std::string(EncodeStageName(stage)), done, total);
+  };
+  return EncodeStreaming(source, args.output, options, &report, streaming);
+}
+
+int RunEncode(const EncodeArgs& args) {
   EncoderOptions options = args.options;
   options.measure = !args.no_measure;
   EncodeReport report;
-  const Status status = EncodeToFile(*sequence, args.output, options, &report);
+  const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);
 
   const nlohmann::json breakdown = {
@@ -130,6 +190,8 @@ Command AddEncodeCommand(CLI::App& parent) {
                 "Let the output use the codec's vertex order (smaller connectivity)");
   app->add_flag("--no-measure", args->no_measure, "Skip decoding and measuring KG/STED");
   app->add_flag("--json", args->json, "Machine-readable output");
+  app->add_flag("--progress", args->progress,
+                "Show progress on stderr even when it is not a terminal");
   return {app, [args] { return RunEncode(*args); }};
 }
 
