@@ -87,4 +87,14 @@ inline std::vector<uint8_t> RepairChecksums(std::span<const uint8_t> stream) {
 // Stops the fuzzer with a crash report (an invariant of a successful result was broken).
 [[noreturn]] inline void InvariantBroken() { std::abort(); }
 
+// What every mesh-file parser promises of a result it accepts: whole xyz triples and triangles,
+// and corners that index its vertices.
+template <typename MeshFile>
+void CheckParsedMesh(const MeshFile& mesh) {
+  if (mesh.positions.size() % 3 != 0 || mesh.triangles.size() % 3 != 0) InvariantBroken();
+  for (const int32_t v : mesh.triangles) {
+    if (v < 0 || v >= mesh.vertex_count()) InvariantBroken();
+  }
+}
+
 }  // namespace dmc::fuzz
