@@ -53,14 +53,14 @@ PlyType TypeOf(std::string_view name) {
     PlyType type;
   };
   static constexpr Entry kTypes[] = {
-      {"char", {PlyNumber::kInteger, 1, true}},     {"int8", {PlyNumber::kInteger, 1, true}},
-      {"uchar", {PlyNumber::kInteger, 1, false}},   {"uint8", {PlyNumber::kInteger, 1, false}},
-      {"short", {PlyNumber::kInteger, 2, true}},    {"int16", {PlyNumber::kInteger, 2, true}},
-      {"ushort", {PlyNumber::kInteger, 2, false}},  {"uint16", {PlyNumber::kInteger, 2, false}},
-      {"int", {PlyNumber::kInteger, 4, true}},      {"int32", {PlyNumber::kInteger, 4, true}},
-      {"uint", {PlyNumber::kInteger, 4, false}},    {"uint32", {PlyNumber::kInteger, 4, false}},
-      {"float", {PlyNumber::kReal, 4, true}},       {"float32", {PlyNumber::kReal, 4, true}},
-      {"double", {PlyNumber::kReal, 8, true}},      {"float64", {PlyNumber::kReal, 8, true}},
+      {"char", {PlyNumber::kInteger, 1, true}},    {"int8", {PlyNumber::kInteger, 1, true}},
+      {"uchar", {PlyNumber::kInteger, 1, false}},  {"uint8", {PlyNumber::kInteger, 1, false}},
+      {"short", {PlyNumber::kInteger, 2, true}},   {"int16", {PlyNumber::kInteger, 2, true}},
+      {"ushort", {PlyNumber::kInteger, 2, false}}, {"uint16", {PlyNumber::kInteger, 2, false}},
+      {"int", {PlyNumber::kInteger, 4, true}},     {"int32", {PlyNumber::kInteger, 4, true}},
+      {"uint", {PlyNumber::kInteger, 4, false}},   {"uint32", {PlyNumber::kInteger, 4, false}},
+      {"float", {PlyNumber::kReal, 4, true}},      {"float32", {PlyNumber::kReal, 4, true}},
+      {"double", {PlyNumber::kReal, 8, true}},     {"float64", {PlyNumber::kReal, 8, true}},
   };
   for (const Entry& entry : kTypes) {
     if (entry.name == name) return entry.type;
@@ -159,8 +159,8 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
   for (const PlyElement& element : header.elements) {
     // Such an element occupies no bytes, so its count is not bounded by the file's size.
     if (element.count > 0 && element.properties.empty()) {
-      return ParseError("element '" + element.name + "' declares " +
-                        std::to_string(element.count) + " entries but no properties");
+      return ParseError("element '" + element.name + "' declares " + std::to_string(element.count) +
+                        " entries but no properties");
     }
   }
   header.body_offset = lines.position();
@@ -366,8 +366,7 @@ std::mutex& OpenMeshReaderMutex() {
 }
 
 // Reads an integer of the given PLY type at `at` in a binary body.
-int64_t ReadBinaryInteger(std::string_view body, size_t at, const PlyType& type,
-                          bool big_endian) {
+int64_t ReadBinaryInteger(std::string_view body, size_t at, const PlyType& type, bool big_endian) {
   uint64_t raw = 0;
   for (int i = 0; i < type.bytes; ++i) {
     const int byte_index = big_endian ? i : type.bytes - 1 - i;
@@ -401,9 +400,8 @@ Status CheckBinaryLayout(std::string_view body, const PlyHeader& header) {
           if (body.size() - at < count_bytes) return truncated();
           const int64_t count = ReadBinaryInteger(body, at, property.count_type, big_endian);
           if (count < 0) {
-            return ParseError("element '" + element.name + "' " + std::to_string(i) +
-                              ": list '" + property.name + "' has a negative length " +
-                              std::to_string(count));
+            return ParseError("element '" + element.name + "' " + std::to_string(i) + ": list '" +
+                              property.name + "' has a negative length " + std::to_string(count));
           }
           at += count_bytes;
           values = static_cast<uint64_t>(count);

@@ -97,7 +97,6 @@ struct BadInput {
 // Test names show the expected error rather than the struct's bytes.
 void PrintTo(const BadInput& input, std::ostream* out) { *out << input.message; }
 
-
 class ObjErrorTest : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(ObjErrorTest, NamesFileAndLine) {
@@ -339,9 +338,9 @@ INSTANTIATE_TEST_SUITE_P(
                              std::string(12, '\0') + std::string("\xff\xff\xff\xff", 4),
                          "list 'vertex_indices' has a negative length -1"},
         // Entries without properties occupy no bytes, so nothing bounds their count.
-        HostileBinaryPly{kBinaryVertexHeader + "element face 600000000\nend_header\n" +
-                             std::string(12, '\0'),
-                         "element 'face' declares 600000000 entries but no properties"},
+        HostileBinaryPly{
+            kBinaryVertexHeader + "element face 600000000\nend_header\n" + std::string(12, '\0'),
+            "element 'face' declares 600000000 entries but no properties"},
         HostileBinaryPly{kBinaryVertexHeader + "end_header\n" + std::string(13, '\0'),
                          "1 byte(s) after the last declared element"}));
 
