@@ -1,6 +1,7 @@
 // The restricted B-spline operator (dmc/bspline.h): setup time against the triangle count N and
 // the depth d (the paper's O(N·d): clipping, exact cubature and assembly of every level), one
-// multigrid W-cycle on a 100k-triangle mesh at depth 7, and the spectrum at depth 5.
+// multigrid W-cycle on a 100k-triangle mesh at depth 7, the spectrum at depth 5, and the operator
+// registry's "bspline" row (one level, no hierarchy).
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -8,6 +9,8 @@
 #include <utility>
 
 #include "dmc/bspline.h"
+#include "dmc/operators.h"
+#include "dmc/topology.h"
 #include "synth/shapes.h"
 
 namespace dmc {
@@ -85,6 +88,27 @@ void BM_BsplineSpectrum(benchmark::State& state) {
   state.counters["dimension"] = op.dimension();
 }
 BENCHMARK(BM_BsplineSpectrum)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The registry row at one depth on the 100k-triangle sphere: what `dmc laplacian --operator
+// bspline --depth D` builds (finest level only, plus the vertex evaluation matrix).
+void BM_BsplineRegistryRow(benchmark::State& state) {
+  const synth::RestMesh& mesh = Sphere(71);
+  const MeshTopology topology =
+      BuildTopology(mesh.triangles, static_cast<int>(mesh.positions.rows()));
+  const OperatorSource source = SourceFromFrame(mesh.positions);
+  OperatorOptions options;
+  options.allow_any_domain = true;
+  options.bspline.depth = static_cast<int>(state.range(0));
+  Eigen::Index dimension = 0;
+  for (auto _ : state) {
+    auto op = BuildOperator("bspline", topology, source, options);
+    dimension = op->matrix.rows();
+    benchmark::DoNotOptimize(op->matrix.valuePtr());
+  }
+  state.counters["triangles"] = static_cast<double>(mesh.triangles.rows());
+  state.counters["dimension"] = static_cast<double>(dimension);
+}
+BENCHMARK(BM_BsplineRegistryRow)->Arg(5)->Arg(7)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace dmc

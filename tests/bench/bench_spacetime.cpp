@@ -41,6 +41,24 @@ void BM_SpacetimeBuild(benchmark::State& state) {
 }
 BENCHMARK(BM_SpacetimeBuild)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 
+// The same operator through the operator registry's "spacetime" row (trajectories V×3F, triangles
+// recovered from the topology): what `dmc laplacian --operator spacetime` pays.
+void BM_SpacetimeRegistryRow(benchmark::State& state) {
+  const MeshSequence& seq = Cloth(static_cast<int>(state.range(0)), 10);
+  const MeshTopology topology = BuildTopology(seq.triangles(), seq.vertex_count());
+  const OperatorSource source = SourceFromSequence(seq);
+  OperatorOptions options;
+  options.allow_any_domain = true;
+  options.spacetime.frame_rate = seq.frame_rate;
+  for (auto _ : state) {
+    auto op = BuildOperator("spacetime", topology, source, options);
+    benchmark::DoNotOptimize(op->matrix.valuePtr());
+  }
+  state.counters["vertices"] = seq.vertex_count();
+  state.counters["unknowns"] = static_cast<double>(seq.vertex_count()) * seq.frame_count();
+}
+BENCHMARK(BM_SpacetimeRegistryRow)->Arg(10000)->Unit(benchmark::kMillisecond);
+
 // −W plus unit soft anchors on the first frame: the ARAP system's shape.
 SparseMatrixD AnchoredSystem(const MeshSequence& seq) {
   const auto op = BuildSpacetimeLaplacian(seq, {});

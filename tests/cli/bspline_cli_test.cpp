@@ -1,6 +1,7 @@
 // dmc laplacian --operator bspline: the spectrum through the built binary (JSON key eigenvalues,
-// ascending with the zero mode, the unit sphere's 2 and 6 groups), the per-vertex report, and
-// the exit codes of bad options.
+// ascending with the zero mode, the unit sphere's 2 and 6 groups), the element operator's report
+// (the registry row, OperatorDomain::kElement), the per-vertex processing methods' refusal of
+// it, and the exit codes of bad options.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -40,6 +41,7 @@ TEST(BsplineCli, SpectrumOfTheUnitSphere) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const auto report = nlohmann::json::parse(result.out);
   EXPECT_EQ(report["operator"].get<std::string>(), "bspline");
+  EXPECT_EQ(report["domain"].get<std::string>(), "element");
   EXPECT_EQ(report["depth"].get<int>(), 4);
   EXPECT_GT(report["dimension"].get<int>(), 0);
   const auto values = report["eigenvalues"].get<std::vector<double>>();
@@ -56,19 +58,55 @@ TEST(BsplineCli, SpectrumOfTheUnitSphere) {
   EXPECT_NE(text.out.find("eigenvalues of operator bspline"), std::string::npos) << text.out;
 }
 
-TEST(BsplineCli, PerVertexReportAndCotanSpectrum) {
+// Area of the level-3 icosphere (642 vertices) inscribed in the unit sphere: a little under 4π.
+double IcosphereArea(const MeshSequence& sphere) {
+  double area = 0.0;
+  for (int t = 0; t < sphere.triangle_count(); ++t) {
+    const Eigen::Vector3f a = sphere.frame(0).row(sphere.triangles()(t, 0)).transpose();
+    const Eigen::Vector3f b = sphere.frame(0).row(sphere.triangles()(t, 1)).transpose();
+    const Eigen::Vector3f c = sphere.frame(0).row(sphere.triangles()(t, 2)).transpose();
+    area += 0.5 * static_cast<double>((b - a).cross(c - a).norm());
+  }
+  return area;
+}
+
+TEST(BsplineCli, ElementReportAndCotanSpectrum) {
   const auto dir = FreshTempDir("bspline_cli");
   const auto input = WriteSphere(dir);
   const CliResult report =
       RunDmc("laplacian " + Quoted(input) + " --operator bspline --depth 3 --json");
   ASSERT_EQ(report.exit_code, 0) << report.err;
   const auto json = nlohmann::json::parse(report.out);
+  EXPECT_EQ(json["operator"].get<std::string>(), "bspline");
+  EXPECT_EQ(json["domain"].get<std::string>(), "element");
+  EXPECT_EQ(json["depth"].get<int>(), 3);
+  EXPECT_EQ(json["vertices"].get<int>(), 642);
+  EXPECT_GT(json["dimension"].get<int>(), 0);
   EXPECT_EQ(json["symmetry_error"].get<double>(), 0.0);
   EXPECT_LT(json["max_row_sum"].get<double>(), 1e-9);
+  EXPECT_LE(json["diagonal_max"].get<double>(), 0.0);
+  EXPECT_LT(json["evaluation_partition_error"].get<double>(), 1e-12);
+  EXPECT_NEAR(json["mass_total"].get<double>(), IcosphereArea(Icosphere(3)), 1e-5);
+  EXPECT_TRUE(json["delta_mean"].is_null());  // element coefficients, not vertices
+  // The text report names the domain.
+  const CliResult text = RunDmc("laplacian " + Quoted(input) + " --operator bspline --depth 3");
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("element domain"), std::string::npos) << text.out;
   // Other symmetric operators use their vertex mass: cotan-sym also finds λ₁ ≈ 2.
   const auto cotan = nlohmann::json::parse(
       RunDmc("laplacian " + Quoted(input) + " --operator cotan-sym --spectrum 2 --json").out);
   EXPECT_NEAR(cotan["eigenvalues"][1].get<double>(), 2.0, 0.05);
+}
+
+// The per-vertex processing methods refuse the element operator with the registry's reason.
+TEST(BsplineCli, PerVertexMethodsRefuseTheElementOperator) {
+  const auto dir = FreshTempDir("bspline_cli");
+  const auto input = WriteSphere(dir);
+  const CliResult smooth = RunDmc("edit smooth-explicit " + Quoted(input) + " -o " +
+                                  Quoted(dir / "smooth.obj") + " --operator bspline");
+  EXPECT_EQ(smooth.exit_code, 16) << smooth.err;  // unsupported
+  EXPECT_NE(smooth.err.find("per-vertex"), std::string::npos) << smooth.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "smooth.obj"));
 }
 
 // The value of the first measurement called `name` in a dmc edit --json report.

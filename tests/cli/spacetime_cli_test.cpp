@@ -1,8 +1,9 @@
 // dmc laplacian --operator spacetime and dmc edit spacetime-arap through the built binary, on
-// sequences from dmc synth: the report's keys and identities, the edit's window and handles, and
-// exit codes.
+// sequences from dmc synth: the report's keys and identities, the edit's window and handles, the
+// codec's and per-vertex methods' refusal of the spacetime registry row, and exit codes.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -27,6 +28,7 @@ TEST(SpacetimeCli, LaplacianReportsTheOperatorsIdentities) {
     EXPECT_TRUE(report.contains(key)) << "lacks " << key;
   }
   EXPECT_EQ(report["operator"].get<std::string>(), "spacetime");
+  EXPECT_EQ(report["domain"].get<std::string>(), "spacetime");
   EXPECT_EQ(report["frames"].get<int>(), 4);
   EXPECT_EQ(report["dimension"].get<int>(), 4 * report["vertices"].get<int>());
   EXPECT_EQ(report["nonzeros"].get<int64_t>(), report["expected_nonzeros"].get<int64_t>());
@@ -43,6 +45,25 @@ TEST(SpacetimeCli, LaplacianReportsTheOperatorsIdentities) {
   ASSERT_EQ(RunDmc("synth blob -o " + Quoted(single) + " --frames 1 --resolution 300").exit_code,
             0);
   EXPECT_EQ(RunDmc("laplacian " + Quoted(single) + " --operator spacetime").exit_code, 11);
+}
+
+// The row has no wire ID: a decoder could not rebuild it, so the encoder refuses it by name, and
+// the per-vertex processing methods refuse its VF×VF matrix.
+TEST(SpacetimeCli, CodecAndPerVertexMethodsRefuseTheSpacetimeOperator) {
+  const auto dir = FreshTempDir("spacetime_cli");
+  const auto input = dir / "blob.pc2";
+  ASSERT_EQ(RunDmc("synth blob -o " + Quoted(input) + " --frames 3 --resolution 300").exit_code, 0);
+  const auto stream = dir / "blob.dmc";
+  const CliResult encode =
+      RunDmc("encode " + Quoted(input) + " -o " + Quoted(stream) + " --operator spacetime");
+  EXPECT_EQ(encode.exit_code, 16) << encode.err;  // unsupported, not unknown
+  EXPECT_NE(encode.err.find("'spacetime' cannot be used by the codec"), std::string::npos)
+      << encode.err;
+  EXPECT_FALSE(std::filesystem::exists(stream));
+  const CliResult smooth = RunDmc("edit smooth-explicit " + Quoted(input) + " -o " +
+                                  Quoted(dir / "smooth.pc2") + " --operator spacetime");
+  EXPECT_EQ(smooth.exit_code, 16) << smooth.err;
+  EXPECT_NE(smooth.err.find("per-vertex"), std::string::npos) << smooth.err;
 }
 
 // The edit subcommand comes with the processing registry's CLI; skip cleanly without it.

@@ -192,12 +192,16 @@ StatusOr<GeneralizedSpectrum> ComputeGeneralizedSpectrum(const SparseMatrixD& st
 // sphere: 0, 2 ×3, 6 ×5, 12 ×7, … = l(l+1) with multiplicity 2l+1).
 StatusOr<GeneralizedSpectrum> ComputeBsplineSpectrum(const BsplineOperator& op, int count);
 
-// Spectrum of a per-vertex operator from the registry: −L η = λ M η with M its diagonal mass
-// (identity when it has none). kUnsupported for a non-symmetric operator.
+// Spectrum of an operator from the registry: −L η = λ M η with M its mass_matrix (kElement
+// operators such as "bspline": the same pencil as ComputeBsplineSpectrum), else its diagonal mass
+// (cotan-sym: vertex areas; spacetime: ⋆0), else the identity. kUnsupported for a non-symmetric
+// operator.
 StatusOr<GeneralizedSpectrum> LaplacianSpectrum(const LaplaceOperator& op, int count);
 
 // ---------------------------------------------------------------------------------------------
-// Per-vertex form for the operator registry (row "bspline").
+// Per-vertex form. The registry row "bspline" is the element operator itself (L, D and the
+// evaluation matrix, OperatorDomain::kElement); this is its pull-back to a V×V matrix for code
+// that needs per-vertex operators.
 
 // The vertex operator L_V = Rᵀ L R with mass m = Rᵀ D 1, where R (n×V) is the lumped L² projection
 // from the mesh's piecewise-linear functions to the elements, R_iv = ∫ b_i φ_v / ∫ b_i (φ_v the
@@ -211,6 +215,12 @@ StatusOr<GeneralizedSpectrum> LaplacianSpectrum(const LaplaceOperator& op, int c
 StatusOr<LaplaceOperator> BuildBsplineVertexOperator(const MeshTopology& topology,
                                                      const FramePositionsD& positions,
                                                      int depth = 0);
+
+// The triangles of a topology, recovered from its edges and their opposite vertices (sorted
+// corner triples, de-duplicated): what the operator registry's factories, which receive only the
+// topology, build from. Orientation and triangles beyond the second on a non-manifold edge are
+// lost; areas, dual cells and the B-spline integrals do not depend on either.
+Triangles TrianglesFromTopology(const MeshTopology& topology);
 
 // The depth rule of BuildBsplineVertexOperator for a mesh: voxel ≥ mean edge length, in [2, 7].
 int AutomaticBsplineDepth(const Triangles& triangles, const FramePositionsD& positions);

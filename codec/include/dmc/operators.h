@@ -85,17 +85,45 @@ struct OperatorStats {
   int solver_iterations = 0;      // augmented-Lagrangian iterations of the symmetric fit
   double fit_residual = 0.0;      // Σ_i ‖δ_i‖² on the fitted trajectories
   double constraint_error = 0.0;  // max_i |Σ_j w_ij − 1| over constrained rows
+  // spacetime only (SpacetimeStats).
+  int short_spatial_edges = 0;  // (edge, frame) pairs of near-zero length: weight set to zero
+  int empty_vertex_duals = 0;   // (vertex, frame) pairs without dual volume: zero rows
+};
+
+// What the rows and columns of LaplaceOperator::matrix stand for. Every operator with a wire ID
+// (everything the codec and the per-vertex processing methods use) is kVertex; the other two are
+// registry rows for analysis and their own solvers. The sign convention above holds in every
+// domain: off-diagonals are the couplings, rows sum to zero, and a symmetric matrix is negative
+// semidefinite.
+enum class OperatorDomain : uint8_t {
+  kVertex,     // V×V: row i is mesh vertex i
+  kSpacetime,  // V·F×V·F: row k·V + i is vertex i in frame k (F = LaplaceOperator::frame_count);
+               // block tridiagonal (dmc/spacetime.h)
+  kElement,  // N×N: row n is basis function n of a function space other than the mesh's hat
+             // functions (the B-spline elements of dmc/bspline.h); N does not depend on V
 };
 
 // A built operator: the matrix, the weights it was assembled from, and optionally a mass matrix.
+// The mass turns the stiffness-like `matrix` into the pointwise operator: M⁻¹·matrix (e.g.
+// cotan-sym → cotan-area), and the generalized problem −matrix·η = λ·M·η gives its spectrum.
 struct LaplaceOperator {
   std::string name;         // registry name, e.g. "cotan"
-  SparseMatrixD matrix;     // V×V, see the sign convention above
-  OperatorWeights weights;  // matrix == AssembleLaplacian(topology, weights)
-  Eigen::VectorXd mass;     // diagonal mass matrix (vertex areas); empty when not defined
+  SparseMatrixD matrix;     // square, size and meaning given by `domain`; sign convention above
+  OperatorWeights weights;  // kVertex one-ring operators: matrix == AssembleLaplacian(topology,
+                            // weights); empty values when the matrix is not a one-ring assembly
+  Eigen::VectorXd mass;     // diagonal mass matrix, one entry per matrix row (vertex areas; dual
+                            // volumes ⋆0 for kSpacetime); empty when not defined or not diagonal
   bool symmetric = false;   // matrix is symmetric by construction
   bool unit_sum = false;    // every non-isolated row has diagonal −1
   OperatorStats stats;
+
+  OperatorDomain domain = OperatorDomain::kVertex;
+  int frame_count = 1;  // kSpacetime: the F frames the matrix spans (V·F rows); 1 otherwise
+  // kElement only (empty otherwise):
+  SparseMatrixD mass_matrix;  // N×N, symmetric positive semidefinite, not diagonal (Gram matrix
+                              // ∫ b_i b_j); replaces `mass` in M⁻¹·matrix and the spectrum
+  SparseMatrixD evaluation;   // V×N: vertex values = evaluation · element coefficients; every row
+                              // of a vertex in a triangle sums to one (partition of unity)
 };
 
 // The one assembly routine: off-diagonals = weights, diagonal = −(sum of the row's off-diagonals),
@@ -312,10 +340,28 @@ OperatorSource SourceFromSequence(const MeshSequence& sequence, int reference_fr
 // Reduced trajectories (e.g. PCA coefficients, V×r); add a reference frame for geometric ones.
 OperatorSource SourceFromTrajectories(Eigen::MatrixXd trajectories);
 
+// Options of the spacetime row (the full set is dmc/spacetime.h's SpacetimeOptions).
+struct SpacetimeOperatorOptions {
+  double alpha = 1.0;       // time weight α > 0 of the 4D metric diag(α, 1, 1, 1)
+  double frame_rate = 0.0;  // frame k sits at time k / frame_rate; ≤ 0: at time k
+};
+
+// Options of the bspline row (the full set is dmc/bspline.h's BsplineOptions).
+struct BsplineOperatorOptions {
+  int depth = 0;  // octree depth in [1, 10]; 0 picks the depth whose voxel is about one mean
+                  // edge long (AutomaticBsplineDepth, in [2, 7])
+};
+
 struct OperatorOptions {
   GeometricOptions geometric;
   DdlOptions ddl;
   SolverOptions solver;  // backend of the symmetric DDL fit's sparse factorisations
+  SpacetimeOperatorOptions spacetime;
+  BsplineOperatorOptions bspline;
+  // BuildOperator refuses (kUnsupported, naming the operator's domain) to build an operator whose
+  // domain is not kVertex unless this is set, so code written for V×V matrices gets a clear error
+  // instead of a matrix of another size. Callers that read LaplaceOperator::domain set it.
+  bool allow_any_domain = false;
 };
 
 // Symmetric DDL: one weight per edge (kPerEdge), minimising the objective above subject to
@@ -348,21 +394,38 @@ using OperatorFactory = StatusOr<LaplaceOperator> (*)(const MeshTopology&, const
 // One row of the registry table.
 struct OperatorInfo {
   std::string_view name;              // stable, lower case: "cotan-area"
-  std::optional<OperatorId> wire_id;  // set for operators a decoder can rebuild
+  std::optional<OperatorId> wire_id;  // set for operators a decoder can rebuild (kVertex only)
   std::string_view description;
   bool needs_geometry = false;      // uses OperatorSource::reference_frame
   bool needs_trajectories = false;  // uses OperatorSource::trajectories
   bool symmetric = false;
   bool unit_sum = false;
   OperatorFactory factory = nullptr;
+  OperatorDomain domain = OperatorDomain::kVertex;  // of every operator this row builds
 };
+
+// "vertex", "spacetime" or "element".
+std::string_view OperatorDomainName(OperatorDomain domain);
 
 // The table, in a fixed order. Adding an operator is one factory plus one row here.
 std::span<const OperatorInfo> OperatorRegistry();
 // Lookups; unknown → kNotFound whose message lists every name (or ID) that exists.
 StatusOr<const OperatorInfo*> FindOperator(std::string_view name);
 StatusOr<const OperatorInfo*> FindOperator(OperatorId id);
-// Looks up `name` and builds it. Missing inputs → kInvalidArgument naming what is needed.
+// Looks up `name` and builds it. Missing inputs → kInvalidArgument naming what is needed; a
+// non-vertex domain without options.allow_any_domain → kUnsupported.
+//
+// The two rows without wire ID and their inputs:
+//   spacetime  kSpacetime, from OperatorSource::trajectories read as F frames (V×3F, column
+//              3k + axis: SourceFromSequence), options.spacetime. matrix = the DEC stiffness W
+//              (symmetric, block tridiagonal, F·(V + 2E) + 2·V·(F − 1) nonzeros), mass = ⋆0, so
+//              the paper's symmetrised Δ = M^{−1/2}·W·M^{−1/2} and unsymmetrised Δu = M⁻¹·W.
+//              Needs F ≥ 2 frames.
+//   bspline    kElement, from OperatorSource::reference_frame and options.bspline: matrix = the
+//              element stiffness L (N×N, symmetric, L·1 = 0), mass_matrix = D, evaluation = the
+//              V×N element values at the vertices.
+// Both recover the triangles from the topology's edge/opposite table, so triangles beyond the
+// second on a non-manifold edge are not seen.
 StatusOr<LaplaceOperator> BuildOperator(std::string_view name, const MeshTopology& topology,
                                         const OperatorSource& source,
                                         const OperatorOptions& options = {});

@@ -166,6 +166,13 @@ StatusOr<SpacetimeLaplacian> BuildSpacetimeLaplacian(const MeshSequence& sequenc
 
 // The unsymmetrised operator Δu = ⋆0⁻¹·W (rows of empty duals are zero). Not symmetric.
 SparseMatrixD UnsymmetrisedSpacetimeLaplacian(const SpacetimeLaplacian& laplacian);
+// The same from the stiffness W and the dual volumes ⋆0 alone (what the operator registry's
+// "spacetime" row returns as matrix and mass), and the symmetrised Δ = ⋆0^{−1/2}·W·⋆0^{−1/2}
+// (rows and columns of empty duals are zero). Both keep W's sparsity pattern.
+SparseMatrixD UnsymmetrisedSpacetimeLaplacian(const SparseMatrixD& stiffness,
+                                              const Eigen::VectorXd& mass);
+SparseMatrixD SymmetrisedSpacetimeLaplacian(const SparseMatrixD& stiffness,
+                                            const Eigen::VectorXd& mass);
 
 // The V×V block (row_frame, column_frame) of a VF×VF matrix; |row_frame − column_frame| ≤ 1 for
 // a nonzero block of Δ: L(k) = block (k, k), D(k) = block (k, k+1).

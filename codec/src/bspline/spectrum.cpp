@@ -116,6 +116,9 @@ StatusOr<GeneralizedSpectrum> LaplacianSpectrum(const LaplaceOperator& op, int c
     return UnsupportedError("the spectrum needs a symmetric operator; " + op.name + " is not");
   }
   const Eigen::Index n = op.matrix.rows();
+  if (op.mass_matrix.rows() == n && op.mass_matrix.cols() == n) {
+    return ComputeGeneralizedSpectrum(-op.matrix, op.mass_matrix, count);
+  }
   SparseMatrixD mass(n, n);
   if (op.mass.size() == n) {
     std::vector<Eigen::Triplet<double>> diagonal;

@@ -1,5 +1,5 @@
-// The B-spline operator moved to per-vertex values for the operator registry: L_V = Rᵀ L R with
-// R the lumped L² projection from hat functions to the elements.
+// The B-spline operator moved to per-vertex values, L_V = Rᵀ L R with R the lumped L² projection
+// from hat functions to the elements, and the triangle recovery the registry factories share.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,12 +8,9 @@
 #include "bspline/bspline_internal.h"
 
 namespace dmc {
-namespace {
 
-// Triangles from the topology's edges and their opposite vertices: each triangle is seen from
-// its three edges, so sorted corner triples are de-duplicated. Orientation is lost, which the
-// operator does not need (it only uses areas and the normal line).
-Triangles TrianglesOf(const MeshTopology& topology) {
+Triangles TrianglesFromTopology(const MeshTopology& topology) {
+  // Each triangle is seen from its three edges, hence the sort and de-duplication.
   std::vector<std::array<int32_t, 3>> corners;
   for (size_t e = 0; e < topology.edges.size(); ++e) {
     for (int32_t opposite : topology.edge_opposite[e]) {
@@ -31,8 +28,6 @@ Triangles TrianglesOf(const MeshTopology& topology) {
   }
   return triangles;
 }
-
-}  // namespace
 
 int AutomaticBsplineDepth(const Triangles& triangles, const FramePositionsD& positions) {
   double edge_sum = 0.0;
@@ -61,7 +56,7 @@ StatusOr<LaplaceOperator> BuildBsplineVertexOperator(const MeshTopology& topolog
                          " positions for a topology of " + std::to_string(topology.vertex_count) +
                          " vertices");
   }
-  const Triangles triangles = TrianglesOf(topology);
+  const Triangles triangles = TrianglesFromTopology(topology);
   BsplineOptions options;
   options.depth = depth > 0 ? depth : AutomaticBsplineDepth(triangles, positions);
   options.coarsest_depth = options.depth;  // one level: no multigrid needed here

@@ -187,11 +187,28 @@ StatusOr<SpacetimeLaplacian> BuildSpacetimeLaplacian(const MeshSequence& sequenc
 }
 
 SparseMatrixD UnsymmetrisedSpacetimeLaplacian(const SpacetimeLaplacian& laplacian) {
+  return UnsymmetrisedSpacetimeLaplacian(laplacian.stiffness, laplacian.mass);
+}
+
+SparseMatrixD UnsymmetrisedSpacetimeLaplacian(const SparseMatrixD& stiffness,
+                                              const Eigen::VectorXd& mass) {
   // Δu = ⋆0⁻¹·W: scale the rows of W (CSC: every stored entry's row index).
-  SparseMatrixD result = laplacian.stiffness;
-  const Eigen::VectorXd inverse = InversePower(laplacian.mass, 1.0);
+  SparseMatrixD result = stiffness;
+  const Eigen::VectorXd inverse = InversePower(mass, 1.0);
   for (int c = 0; c < result.outerSize(); ++c) {
     for (SparseMatrixD::InnerIterator it(result, c); it; ++it) it.valueRef() *= inverse[it.row()];
+  }
+  return result;
+}
+
+SparseMatrixD SymmetrisedSpacetimeLaplacian(const SparseMatrixD& stiffness,
+                                            const Eigen::VectorXd& mass) {
+  SparseMatrixD result = stiffness;
+  const Eigen::VectorXd inverse_root = InversePower(mass, 0.5);
+  for (int c = 0; c < result.outerSize(); ++c) {
+    for (SparseMatrixD::InnerIterator it(result, c); it; ++it) {
+      it.valueRef() *= inverse_root[it.row()] * inverse_root[c];
+    }
   }
   return result;
 }
