@@ -29,6 +29,10 @@ class StreamingCli : public ::testing::Test {
         RunDmc("synth walker -o " + Quoted(input_) + " --frames 30 --resolution 800");
     ASSERT_EQ(made.exit_code, 0) << made.err;
   }
+  void TearDown() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
   std::filesystem::path dir_, input_;
 };
 

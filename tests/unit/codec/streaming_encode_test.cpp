@@ -25,27 +25,38 @@
 namespace dmc {
 namespace {
 
-std::filesystem::path FreshDirectory(const std::string& tag) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  std::string name = std::string(info->test_suite_name()) + "_" + info->name();
-  for (char& c : name) {
-    if (c == '/') c = '_';
+// A fresh directory under the system temp dir, unique per test, removed with the object.
+class ScratchDirectory {
+ public:
+  explicit ScratchDirectory(const std::string& tag) {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
+    std::replace(name.begin(), name.end(), '/', '_');
+    path_ = std::filesystem::temp_directory_path() / ("dmc_stream_" + tag + "_" + name);
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
   }
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("dmc_stream_" + tag + "_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+  ~ScratchDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  ScratchDirectory(const ScratchDirectory&) = delete;
+  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 std::vector<uint8_t> FileBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-std::vector<std::string> DirectoryNames(const std::filesystem::path& dir) {
+std::vector<std::string> DirectoryNames(const ScratchDirectory& dir) {
   std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
     names.push_back(entry.path().filename().string());
   }
   std::sort(names.begin(), names.end());
@@ -110,7 +121,7 @@ TEST_P(StreamingLayouts, BytesReportAndMetricsEqualInMemoryEncode) {
   auto memory = Encode(sequence, options, &memory_report);
   ASSERT_TRUE(memory.ok()) << memory.status().ToString();
 
-  const auto dir = FreshDirectory("layouts");
+  const ScratchDirectory dir("layouts");
   const auto output = dir / "streamed.dmc";
   SequenceFrameSource source(sequence);
   StreamingEncodeOptions streaming;
@@ -157,7 +168,8 @@ TEST(StreamingEncode, MeasureOffGivesTheSameBytesAndNoMetrics) {
   EncodeReport memory_report, streamed_report;
   auto memory = Encode(sequence, options, &memory_report);
   ASSERT_TRUE(memory.ok());
-  const auto output = FreshDirectory("nomeasure") / "out.dmc";
+  const ScratchDirectory dir("nomeasure");
+  const auto output = dir / "out.dmc";
   SequenceFrameSource source(sequence);
   ASSERT_TRUE(EncodeStreaming(source, output, options, &streamed_report).ok());
   EXPECT_EQ(FileBytes(output), *memory);
@@ -168,7 +180,7 @@ TEST(StreamingEncode, MeasureOffGivesTheSameBytesAndNoMetrics) {
 TEST(StreamingEncode, Pc2SourceEncodesAsReadSequenceDoes) {
   MeshSequence sequence = Walker(30);
   sequence.frame_rate = 24.0;
-  const auto dir = FreshDirectory("pc2");
+  const ScratchDirectory dir("pc2");
   const auto cache = dir / "walk.pc2";
   ASSERT_TRUE(WriteSequence(sequence, cache).ok());
   auto loaded = ReadSequence(cache);
@@ -193,7 +205,7 @@ TEST(StreamingEncode, Pc2SourceEncodesAsReadSequenceDoes) {
 
 TEST(StreamingEncode, Pc2TruncatedWhileStreamingFailsAndLeavesNoOutput) {
   const MeshSequence sequence = Walker(20);
-  const auto dir = FreshDirectory("truncated");
+  const ScratchDirectory dir("truncated");
   const auto cache = dir / "walk.pc2";
   ASSERT_TRUE(WriteSequence(sequence, cache).ok());
   auto source = OpenPc2FrameSource(cache);
@@ -211,7 +223,7 @@ TEST(StreamingEncode, Pc2TruncatedWhileStreamingFailsAndLeavesNoOutput) {
 
 TEST(StreamingEncode, TruncatedPc2IsRefusedWhenOpened) {
   const MeshSequence sequence = Walker(5);
-  const auto dir = FreshDirectory("short");
+  const ScratchDirectory dir("short");
   const auto cache = dir / "walk.pc2";
   ASSERT_TRUE(WriteSequence(sequence, cache).ok());
   std::filesystem::resize_file(cache, std::filesystem::file_size(cache) - 7);
@@ -244,7 +256,7 @@ class FailingSource final : public FrameSource {
 
 TEST(StreamingEncode, SourceFailureInAnyPassKeepsTheExistingOutput) {
   const MeshSequence sequence = Walker(30);
-  const auto dir = FreshDirectory("failing");
+  const ScratchDirectory dir("failing");
   const auto output = dir / "out.dmc";
   EncoderOptions options;
   options.segment_frames = 10;
@@ -264,7 +276,7 @@ TEST(StreamingEncode, SourceFailureInAnyPassKeepsTheExistingOutput) {
 
 TEST(StreamingEncode, RefusesRateControlAndBadInputs) {
   const MeshSequence sequence = Walker(6);
-  const auto dir = FreshDirectory("refused");
+  const ScratchDirectory dir("refused");
   SequenceFrameSource source(sequence);
   EncoderOptions rate;
   rate.target_bpfv = 1.0;
@@ -301,7 +313,7 @@ TEST_P(StreamingDecode, Pc2FilesEqualWriteSequenceOfDecode) {
   options.measure = false;
   auto bytes = Encode(sequence, options);
   ASSERT_TRUE(bytes.ok());
-  const auto dir = FreshDirectory("decode");
+  const ScratchDirectory dir("decode");
   auto decoded = Decode(*bytes);
   ASSERT_TRUE(decoded.ok());
   ASSERT_TRUE(WriteSequence(*decoded, dir / "memory.pc2").ok());
@@ -354,7 +366,7 @@ TEST(StreamingDecodeErrors, DamagedStreamLeavesNoFilesAndKeepsTheOldOnes) {
   options.measure = false;
   auto bytes = Encode(sequence, options);
   ASSERT_TRUE(bytes.ok());
-  const auto dir = FreshDirectory("damaged");
+  const ScratchDirectory dir("damaged");
   { std::ofstream(dir / "out.pc2") << "previous"; }
   auto expect_nothing_written = [&] {
     EXPECT_EQ(DirectoryNames(dir), std::vector<std::string>{"out.pc2"});
