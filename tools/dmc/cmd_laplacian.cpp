@@ -5,7 +5,6 @@
 // domain (operators.h: OperatorDomain), plus the spacetime and element operators' own identities.
 #include <fmt/format.h>
 
-#include <Eigen/SparseCholesky>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -176,7 +175,9 @@ RowComponents PatternComponents(const SparseMatrixD& matrix) {
 
 // Thesis 6.1.2: a symmetric Laplacian is semidefinite iff the matrix left after removing one row
 // and column per connected component admits a Cholesky factorisation. Our convention has a
-// negative diagonal, so the candidate is −L.
+// negative diagonal, so the candidate is −L. CHOLMOD's supernodal LLᵀ with no pivot-ratio floor
+// answers exactly that question; Eigen's simplicial LLᵀ made the report of a 100k-row spacetime
+// operator (10k vertices × 10 frames) take 69 s instead of 27 s.
 bool ReducedCholeskyOk(const SparseMatrixD& matrix, const RowComponents& components) {
   std::vector<int> kept_index(components.rows, -1);
   std::vector<char> component_seen(components.count, 0);
@@ -199,8 +200,10 @@ bool ReducedCholeskyOk(const SparseMatrixD& matrix, const RowComponents& compone
   }
   SparseMatrixD reduced(kept, kept);
   reduced.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLLT<SparseMatrixD> cholesky(reduced);
-  return cholesky.info() == Eigen::Success;
+  SolverOptions options;
+  options.backend = SolverBackend::kCholmod;
+  options.min_pivot_ratio = 0.0;  // positive definite is the whole test
+  return SparseSpdSolver::Factor(reduced, options).ok();
 }
 
 // Anchors: the first row of every component (so N is never singular by construction), then rows
