@@ -22,10 +22,10 @@
 #include "dmc/operators.h"
 #include "encoder/connectivity_encoder.h"
 #include "encoder/segment_pca.h"
-#include "encoder/streaming_distortion.h"
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
 #include "io/pc2_stream.h"
+#include "metrics/streaming_distortion.h"
 
 namespace dmc {
 namespace {

@@ -19,6 +19,21 @@ Status CheckInputs(const MeshSequence& original, const MeshSequence& distorted) 
   return Status::Ok();
 }
 
+DistortionReport AssembleReport(const StedResult& sted, const VertexErrorSums& errors,
+                                const KgReference& kg, int frame_count, int vertex_count) {
+  const double value_count = static_cast<double>(frame_count) * static_cast<double>(vertex_count);
+  DistortionReport report;
+  report.kg = KgFromSums(errors.squared_sum, kg.centroid_deviation_squared);
+  report.sted = sted.sted;
+  report.sted_s = sted.sted_s;
+  report.sted_t = sted.sted_t;
+  report.rmse_rel = std::sqrt(errors.squared_sum / value_count) / kg.bounding_box_diagonal;
+  report.max_error = std::sqrt(errors.largest_squared);
+  report.frames = frame_count;
+  report.vertices = vertex_count;
+  return report;
+}
+
 }  // namespace metrics_internal
 
 Status ValidateStedOptions(const StedOptions& options) {
@@ -61,22 +76,12 @@ StatusOr<DistortionReport> DistortionMeter::Measure(const MeshSequence& distorte
   DMC_RETURN_IF_ERROR(ValidateSequence(distorted).WithContext("distorted"));
 
   const StedResult sted = metrics_internal::ComputeSted(state_->sted, original, distorted);
-  const metrics_internal::VertexErrorStats errors =
-      metrics_internal::ComputeVertexErrors(original, distorted);
-  const double value_count =
-      static_cast<double>(original.frame_count()) * static_cast<double>(original.vertex_count());
-
-  DistortionReport report;
-  report.kg =
-      100.0 * std::sqrt(errors.squared_sum) / std::sqrt(state_->kg.centroid_deviation_squared);
-  report.sted = sted.sted;
-  report.sted_s = sted.sted_s;
-  report.sted_t = sted.sted_t;
-  report.rmse_rel = std::sqrt(errors.squared_sum / value_count) / state_->kg.bounding_box_diagonal;
-  report.max_error = errors.max_error;
-  report.frames = original.frame_count();
-  report.vertices = original.vertex_count();
-  return report;
+  metrics_internal::VertexErrorSums errors;
+  metrics_internal::AccumulateVertexErrors(metrics_internal::WholeSequence(original),
+                                           metrics_internal::WholeSequence(distorted), 0,
+                                           original.frame_count(), errors);
+  return metrics_internal::AssembleReport(sted, errors, state_->kg, original.frame_count(),
+                                          original.vertex_count());
 }
 
 const StedOptions& DistortionMeter::options() const { return state_->sted.options; }

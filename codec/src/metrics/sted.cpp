@@ -63,7 +63,7 @@ void CollectNeighbourhood(const MeshTopology& topology, int width, int vertex,
   std::sort(scratch.edges.begin(), scratch.edges.end());
 }
 
-// Per-worker scratch of the spatial part: l(e) and l(e)·ed(e) of the frame being measured.
+// Per-worker scratch of the spatial part: l(e) and ed(e) of the frame being measured.
 struct SpatialScratch {
   std::vector<double> length;
   std::vector<double> relative_difference;
@@ -94,9 +94,8 @@ double SpatialFrameSum(const StedReference& reference, const float* original,
   }
   const auto& offsets = reference.neighbourhoods.offsets;
   const auto& indices = reference.neighbourhoods.edge_indices;
-  const int vertex_count = static_cast<int>(offsets.size()) - 1;
   double frame_sum = 0.0;
-  for (int v = 0; v < vertex_count; ++v) {
+  for (int v = 0; v < reference.vertex_count; ++v) {
     const int32_t* begin = indices.data() + offsets[v];
     const int32_t* end = indices.data() + offsets[v + 1];
     double length_sum = 0.0;
@@ -121,55 +120,56 @@ double SpatialFrameSum(const StedReference& reference, const float* original,
   return frame_sum;
 }
 
-// Vertices per task of the temporal part. Fixed (not derived from the thread count) so that the
-// order of the partial sums, hence the result, never depends on the machine.
-constexpr int kTemporalBlock = 256;
-
-// te(f, v) = sqrt(‖(p(f,v) − p(f−1,v)) / D‖² + dt²) of one sequence; f >= 1.
-inline double TemporalEdgeLength(const MeshSequence& sequence, int f, int v, double diameter,
+// te = sqrt(‖(current − previous) / D‖² + dt²) of one vertex, `current` and `previous` its
+// positions in frames f and f − 1.
+inline double TemporalEdgeLength(const float* current, const float* previous, double diameter,
                                  double dt) {
-  const float* current =
-      sequence.data() + (static_cast<size_t>(f) * sequence.vertex_count() + v) * 3;
-  const float* previous = current - static_cast<size_t>(sequence.vertex_count()) * 3;
   const double x = (static_cast<double>(current[0]) - previous[0]) / diameter;
   const double y = (static_cast<double>(current[1]) - previous[1]) / diameter;
   const double z = (static_cast<double>(current[2]) - previous[2]) / diameter;
   return std::sqrt(x * x + y * y + z * z + dt * dt);
 }
 
-// Σ_{f>=1} Σ_{v in block} |te′ − te| / s̄ for the vertices [v_begin, v_end). `ring` holds the te
-// values of A for the frames of the current window: frame g lives in slot g mod ring_frames,
-// ring_frames = 2·s covers the window [f−s+1, f+s] exactly.
-double TemporalBlockSum(const StedReference& reference, const MeshSequence& original,
-                        const MeshSequence& distorted, int v_begin, int v_end, int64_t window,
-                        int64_t ring_frames, std::vector<double>& ring) {
-  const int frame_count = original.frame_count();
+// Adds Σ_{f in [f_begin, f_end)} Σ_{v in block} |te′ − te| / s̄ to `block_sum`, f >= 1, for the
+// vertices [v_begin, v_end). `ring` holds the te values of A for the frames of the current
+// window: frame g lives in slot g mod ring_frames, ring_frames = 2·s covers the window
+// [f−s+1, f+s] exactly.
+double TemporalBlockSum(const StedReference& reference, int frame_count,
+                        const FrameWindow& original, const FrameWindow& distorted, int v_begin,
+                        int v_end, int f_begin, int f_end, int64_t window, double block_sum,
+                        std::vector<double>& ring) {
   const int block = v_end - v_begin;
   const double diameter = reference.diameter;
   const double dt = reference.options.dt;
+  const int64_t ring_frames = 2 * window;
   ring.resize(static_cast<size_t>(ring_frames) * block);
   auto slot = [&](int64_t g) { return ring.data() + static_cast<size_t>(g % ring_frames) * block; };
 
-  double block_sum = 0.0;
-  int64_t computed_up_to = 0;  // te of A is in the ring for frames (.., computed_up_to]
-  for (int f = 1; f < frame_count; ++f) {
+  // te of A is in the ring for frames [.., computed_up_to]; the first window starts here.
+  int64_t computed_up_to = std::max<int64_t>(1, f_begin - window + 1) - 1;
+  for (int f = f_begin; f < f_end; ++f) {
     const int64_t first = std::max<int64_t>(1, f - window + 1);
     const int64_t last = std::min<int64_t>(frame_count - 1, f + window);
     for (int64_t g = computed_up_to + 1; g <= last; ++g) {
+      const float* current = original.frame(g);
+      const float* previous = original.frame(g - 1);
       double* te = slot(g);
       for (int v = v_begin; v < v_end; ++v) {
-        te[v - v_begin] = TemporalEdgeLength(original, static_cast<int>(g), v, diameter, dt);
+        te[v - v_begin] = TemporalEdgeLength(current + 3 * v, previous + 3 * v, diameter, dt);
       }
     }
     computed_up_to = std::max(computed_up_to, last);
     const double window_frames = static_cast<double>(last - first + 1);
     const double* te_now = slot(f);
+    const float* current = distorted.frame(f);
+    const float* previous = distorted.frame(f - 1);
     for (int v = v_begin; v < v_end; ++v) {
       // Summed in frame order, as the definition's mean reads.
       double speed_sum = 0.0;
       for (int64_t g = first; g <= last; ++g) speed_sum += slot(g)[v - v_begin];
       const double local_speed = speed_sum / window_frames;
-      const double te_distorted = TemporalEdgeLength(distorted, f, v, diameter, dt);
+      const double te_distorted =
+          TemporalEdgeLength(current + 3 * v, previous + 3 * v, diameter, dt);
       const double term = std::abs(te_distorted - te_now[v - v_begin]) / local_speed;
       // NaN only when dt = 0 and the vertex rests in both sequences (0/0): no difference.
       if (!std::isnan(term)) block_sum += term;
@@ -213,66 +213,95 @@ Neighbourhoods BuildNeighbourhoods(const MeshTopology& topology, int width) {
   return result;
 }
 
+Status CheckStedDefined(int frame_count, double diameter) {
+  if (frame_count > 1 && !(diameter > 0.0)) {
+    return InvalidSequenceError(
+        "STED_t is undefined: frame 0 of the original is a single point (diameter D = 0)");
+  }
+  return Status::Ok();
+}
+
 StatusOr<StedReference> PrepareSted(const MeshSequence& original, const StedOptions& options) {
   StedReference reference;
   reference.options = options;
+  reference.vertex_count = original.vertex_count();
   MeshTopology topology = BuildTopology(original.triangles(), original.vertex_count());
   reference.neighbourhoods = BuildNeighbourhoods(topology, options.width);
   reference.edges = std::move(topology.edges);
   reference.diameter = PointSetDiameter(original.frame(0));
-  if (original.frame_count() > 1 && !(reference.diameter > 0.0)) {
-    return InvalidSequenceError(
-        "STED_t is undefined: frame 0 of the original is a single point (diameter D = 0)");
-  }
+  DMC_RETURN_IF_ERROR(CheckStedDefined(original.frame_count(), reference.diameter));
   return reference;
+}
+
+int64_t EffectiveWindow(const StedOptions& options, int frame_count) {
+  return std::min<int64_t>(options.window, frame_count);
+}
+
+StedSums StartSted(const StedReference& reference) {
+  StedSums sums;
+  sums.temporal_block_sums.assign((reference.vertex_count + kTemporalBlock - 1) / kTemporalBlock,
+                                  0.0);
+  return sums;
+}
+
+void AccumulateSted(const StedReference& reference, int frame_count, const FrameWindow& original,
+                    const FrameWindow& distorted, int f_begin, int f_end, StedSums& sums) {
+  const int vertex_count = reference.vertex_count;
+
+  // Spatial part: frame-parallel, one Σ_v dev(v) per frame, added up in frame order.
+  const int count = f_end - f_begin;
+  std::vector<double> frame_sums(count, 0.0);
+  tbb::enumerable_thread_specific<SpatialScratch> spatial_scratches;
+  tbb::parallel_for(tbb::blocked_range<int>(0, count), [&](const tbb::blocked_range<int>& range) {
+    SpatialScratch& scratch = spatial_scratches.local();
+    for (int i = range.begin(); i < range.end(); ++i) {
+      frame_sums[i] = SpatialFrameSum(reference, original.frame(f_begin + i),
+                                      distorted.frame(f_begin + i), scratch);
+    }
+  });
+  for (const double frame_sum : frame_sums) sums.spatial_total += frame_sum;
+
+  // Temporal part (frames >= 1): vertex-block-parallel, each block sweeping the frames with its
+  // ring buffer and continuing its own running sum.
+  const int temporal_begin = std::max(f_begin, 1);
+  if (temporal_begin >= f_end) return;
+  const int64_t window = EffectiveWindow(reference.options, frame_count);
+  const int block_count = static_cast<int>(sums.temporal_block_sums.size());
+  tbb::enumerable_thread_specific<std::vector<double>> rings;
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, block_count, 1), [&](const tbb::blocked_range<int>& range) {
+        std::vector<double>& ring = rings.local();
+        for (int b = range.begin(); b < range.end(); ++b) {
+          const int v_begin = b * kTemporalBlock;
+          const int v_end = std::min(vertex_count, v_begin + kTemporalBlock);
+          sums.temporal_block_sums[b] =
+              TemporalBlockSum(reference, frame_count, original, distorted, v_begin, v_end,
+                               temporal_begin, f_end, window, sums.temporal_block_sums[b], ring);
+        }
+      });
+}
+
+StedResult FinishSted(const StedReference& reference, const StedSums& sums, int frame_count) {
+  const double vertex_count = reference.vertex_count;
+  StedResult result;
+  result.sted_s = sums.spatial_total / (vertex_count * frame_count);
+  if (frame_count > 1) {
+    const double temporal_total =
+        std::accumulate(sums.temporal_block_sums.begin(), sums.temporal_block_sums.end(), 0.0);
+    result.sted_t = temporal_total / (vertex_count * (frame_count - 1));
+  }
+  const double c = reference.options.c;
+  result.sted = std::sqrt(result.sted_s * result.sted_s + c * c * result.sted_t * result.sted_t);
+  return result;
 }
 
 StedResult ComputeSted(const StedReference& reference, const MeshSequence& original,
                        const MeshSequence& distorted) {
   const int frame_count = original.frame_count();
-  const int vertex_count = original.vertex_count();
-  const size_t frame_stride = static_cast<size_t>(vertex_count) * 3;
-  StedResult result;
-
-  // Spatial part: frame-parallel, one Σ_v dev(v) per frame, added up in frame order.
-  std::vector<double> frame_sums(frame_count, 0.0);
-  tbb::enumerable_thread_specific<SpatialScratch> spatial_scratches;
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, frame_count), [&](const tbb::blocked_range<int>& range) {
-        SpatialScratch& scratch = spatial_scratches.local();
-        for (int f = range.begin(); f < range.end(); ++f) {
-          frame_sums[f] = SpatialFrameSum(reference, original.data() + f * frame_stride,
-                                          distorted.data() + f * frame_stride, scratch);
-        }
-      });
-  const double spatial_total = std::accumulate(frame_sums.begin(), frame_sums.end(), 0.0);
-  result.sted_s = spatial_total / (static_cast<double>(vertex_count) * frame_count);
-
-  // Temporal part: vertex-block-parallel, each block sweeping the frames with its ring buffer.
-  if (frame_count > 1) {
-    // A window wider than the sequence covers it all; capping it bounds the ring buffer.
-    const int64_t window = std::min<int64_t>(reference.options.window, frame_count);
-    const int64_t ring_frames = 2 * window;
-    const int block_count = (vertex_count + kTemporalBlock - 1) / kTemporalBlock;
-    std::vector<double> block_sums(block_count, 0.0);
-    tbb::enumerable_thread_specific<std::vector<double>> rings;
-    tbb::parallel_for(tbb::blocked_range<int>(0, block_count, 1),
-                      [&](const tbb::blocked_range<int>& range) {
-                        std::vector<double>& ring = rings.local();
-                        for (int b = range.begin(); b < range.end(); ++b) {
-                          const int v_begin = b * kTemporalBlock;
-                          const int v_end = std::min(vertex_count, v_begin + kTemporalBlock);
-                          block_sums[b] = TemporalBlockSum(reference, original, distorted, v_begin,
-                                                           v_end, window, ring_frames, ring);
-                        }
-                      });
-    const double temporal_total = std::accumulate(block_sums.begin(), block_sums.end(), 0.0);
-    result.sted_t = temporal_total / (static_cast<double>(vertex_count) * (frame_count - 1));
-  }
-
-  const double c = reference.options.c;
-  result.sted = std::sqrt(result.sted_s * result.sted_s + c * c * result.sted_t * result.sted_t);
-  return result;
+  StedSums sums = StartSted(reference);
+  AccumulateSted(reference, frame_count, WholeSequence(original), WholeSequence(distorted), 0,
+                 frame_count, sums);
+  return FinishSted(reference, sums, frame_count);
 }
 
 }  // namespace dmc::metrics_internal
