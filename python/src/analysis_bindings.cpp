@@ -118,6 +118,7 @@ py::list OperatorTable() {
     row["wire_id"] =
         info.wire_id ? py::object(py::int_(static_cast<int>(*info.wire_id))) : py::none();
     row["description"] = std::string(info.description);
+    row["domain"] = std::string(OperatorDomainName(info.domain));
     row["needs_geometry"] = info.needs_geometry;
     row["needs_trajectories"] = info.needs_trajectories;
     row["symmetric"] = info.symmetric;
@@ -185,9 +186,10 @@ Raises:
 constexpr const char* kOperatorsDoc = R"(operators() -> list[dict]
 
 The Laplace operator registry, in its fixed order: one dict per operator with name, wire_id (the
-frozen stream ID, or None when a decoder cannot rebuild it), description, needs_geometry,
-needs_trajectories, symmetric, unit_sum. Any name is valid for laplacian(); those with a wire_id
-are valid for encode().
+frozen stream ID, or None when a decoder cannot rebuild it), description, domain ("vertex": a V×V
+matrix; "spacetime": V·F×V·F over all frames; "element": B-spline elements), needs_geometry,
+needs_trajectories, symmetric, unit_sum. laplacian() builds the "vertex" operators; those with a
+wire_id are valid for encode().
 )";
 
 }  // namespace
