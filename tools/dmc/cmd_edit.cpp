@@ -214,6 +214,9 @@ Command AddMethodSubcommand(CLI::App& edit, const MethodInfo& method) {
       ->required();
   std::string names;
   for (const OperatorInfo& info : OperatorRegistry()) {
+    // The processing methods work on per-vertex operators; spacetime and bspline act on other
+    // domains and are refused, so they are not offered.
+    if (info.domain != OperatorDomain::kVertex) continue;
     names += (names.empty() ? "" : ", ") + std::string(info.name);
   }
   CLI::Option* operator_option = app->add_option(
