@@ -8,6 +8,20 @@
 
 #include "dmc/sequence.h"
 
+// 1 when a sanitizer replaces the allocator (tools/sanitize.sh, tools/fuzz.sh): heap and RSS
+// figures then include its quarantine and shadow memory, so tests measure them unsanitized only.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define DMC_SANITIZER_OWNS_ALLOCATOR 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+#define DMC_SANITIZER_OWNS_ALLOCATOR 1
+#endif
+#endif
+#ifndef DMC_SANITIZER_OWNS_ALLOCATOR
+#define DMC_SANITIZER_OWNS_ALLOCATOR 0
+#endif
+
 namespace dmc::testing {
 
 // Path of a sequence under ../shared/data, or an empty path when the data is absent (tests then

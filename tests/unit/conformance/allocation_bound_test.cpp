@@ -33,18 +33,7 @@
 #include "dmc/wire_ids.h"
 #include "entropy/byte_io.h"
 #include "fuzz/fuzz_support.h"
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define DMC_SANITIZER_OWNS_ALLOCATOR 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-#define DMC_SANITIZER_OWNS_ALLOCATOR 1
-#endif
-#endif
-#ifndef DMC_SANITIZER_OWNS_ALLOCATOR
-#define DMC_SANITIZER_OWNS_ALLOCATOR 0
-#endif
+#include "test_support.h"
 
 namespace {
 

@@ -12,28 +12,17 @@
 
 #include "dmc/status.h"
 #include "io/mesh_formats.h"
+#include "test_support.h"
 
 namespace dmc {
 namespace {
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 // Runs `work` in a child process limited to `seconds` of wall time and 1 GiB of address space
 // (not under ASan, which reserves far more). True when the child returned 0 in time.
 bool FinishesInTime(const std::function<int()>& work, unsigned seconds) {
   const pid_t child = ::fork();
   if (child == 0) {
-    if (!kAddressSanitizer) {
+    if (!DMC_SANITIZER_OWNS_ALLOCATOR) {
       const rlimit limit{rlim_t{1} << 30, rlim_t{1} << 30};
       ::setrlimit(RLIMIT_AS, &limit);
     }
