@@ -108,27 +108,6 @@ StatusOr<Pc2Header> ReadPc2Header(const std::filesystem::path& path) {
   return header;
 }
 
-Status ReadPc2Samples(const std::filesystem::path& path, const Pc2Header& header,
-                      MeshSequence& sequence) {
-  if (sequence.vertex_count() != header.point_count) {
-    return InternalError("ReadPc2Samples: the sequence does not have the cache's point count");
-  }
-  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-  if (file.get() < 0) return IoErrorFromErrno("cannot open", path, errno);
-  const size_t value_count = sequence.position_value_count();
-  DMC_RETURN_IF_ERROR(
-      ReadAt(file.get(), path, kPc2HeaderBytes, sequence.data(), value_count * sizeof(float)));
-  if constexpr (std::endian::native != std::endian::little) {
-    float* values = sequence.data();
-    for (size_t i = 0; i < value_count; ++i) {
-      uint8_t raw[4];
-      std::memcpy(raw, &values[i], 4);
-      values[i] = LoadFloat(raw);
-    }
-  }
-  return Status::Ok();
-}
-
 std::string EncodePc2(const MeshSequence& sequence) {
   std::string out;
   const size_t value_count = sequence.position_value_count();

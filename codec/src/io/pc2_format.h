@@ -29,11 +29,6 @@ inline constexpr size_t kPc2HeaderBytes = 32;
 // (kUnsupported).
 StatusOr<Pc2Header> ParsePc2Header(const uint8_t* bytes, size_t size, uint64_t file_size);
 
-// Reads the first `frame_count` samples of `path` (header already checked) into `sequence`,
-// whose vertex count must be header.point_count and frame count `frame_count`.
-Status ReadPc2Samples(const std::filesystem::path& path, const Pc2Header& header,
-                      MeshSequence& sequence);
-
 // Reads and checks the header of `path`.
 StatusOr<Pc2Header> ReadPc2Header(const std::filesystem::path& path);
 

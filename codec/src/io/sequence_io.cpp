@@ -17,6 +17,7 @@
 #include "io/gltf_format.h"
 #include "io/mesh_formats.h"
 #include "io/pc2_format.h"
+#include "io/pc2_stream.h"
 
 namespace dmc {
 
@@ -268,26 +269,14 @@ StatusOr<MeshSequence> ReadFrameFiles(const std::vector<std::filesystem::path>& 
   return sequence;
 }
 
-// Beside "anim.pc2": the first of anim.obj, anim.off, anim.ply that exists.
-StatusOr<std::filesystem::path> FindConnectivity(const std::filesystem::path& cache) {
-  for (const char* extension : {".obj", ".off", ".ply"}) {
-    std::filesystem::path candidate = cache;
-    candidate.replace_extension(extension);
-    std::error_code error;
-    if (std::filesystem::is_regular_file(candidate, error)) return candidate;
-  }
-  std::filesystem::path obj = cache;
-  obj.replace_extension(".obj");
-  return IoError(cache.string() + " needs a connectivity mesh: " + obj.string() +
-                 " (or .off/.ply) does not exist; name one with --connectivity");
-}
-
 StatusOr<MeshSequence> ReadPc2(const std::filesystem::path& cache, const ReadOptions& options,
                                std::vector<std::string>& warnings) {
-  DMC_ASSIGN_OR_RETURN(const io_internal::Pc2Header header, io_internal::ReadPc2Header(cache));
+  DMC_ASSIGN_OR_RETURN(const io_internal::Pc2FrameReader reader,
+                       io_internal::Pc2FrameReader::Open(cache));
+  const io_internal::Pc2Header& header = reader.header();
   std::filesystem::path connectivity = options.connectivity;
   if (connectivity.empty()) {
-    DMC_ASSIGN_OR_RETURN(connectivity, FindConnectivity(cache));
+    DMC_ASSIGN_OR_RETURN(connectivity, io_internal::FindPc2Connectivity(cache));
   }
   DMC_ASSIGN_OR_RETURN(const MeshFileData mesh, io_internal::ReadMeshFile(connectivity));
   if (mesh.vertex_count() != header.point_count) {
@@ -299,7 +288,7 @@ StatusOr<MeshSequence> ReadPc2(const std::filesystem::path& cache, const ReadOpt
   int frame_count = header.sample_count;
   if (options.max_frames > 0) frame_count = std::min(frame_count, options.max_frames);
   MeshSequence sequence(header.point_count, ToTriangles(mesh.triangles), frame_count);
-  DMC_RETURN_IF_ERROR(io_internal::ReadPc2Samples(cache, header, sequence));
+  DMC_RETURN_IF_ERROR(reader.ReadFrames(0, frame_count, sequence.data()));
   for (int f = 0; f < frame_count; ++f) {
     DMC_RETURN_IF_ERROR(
         CheckFinite(sequence.frame(f).data(), sequence.vertex_count(), FrameLabel(f, cache)));
