@@ -126,7 +126,7 @@ const StageFixture& Fixture(int resolution) {
   s.laplace = *RebuildSegmentOperator(s.topology, s.syntax);
   const Eigen::MatrixXd delta = s.laplace.matrix * s.coefficients;
   s.residual_payload =
-      syntax::WriteResiduals(delta, s.topology, s.vertex_order, h, &s.syntax.delta);
+      *syntax::WriteResiduals(delta, s.topology, s.vertex_order, h, &s.syntax.delta);
   return *slot;
 }
 
@@ -181,7 +181,7 @@ void BM_StageResidualCoding(benchmark::State& state) {
   PeakMemory memory;
   for (auto _ : state) {
     auto payload =
-        syntax::WriteResiduals(delta, s.topology, s.vertex_order, s.syntax.header, &decoded);
+        *syntax::WriteResiduals(delta, s.topology, s.vertex_order, s.syntax.header, &decoded);
     benchmark::DoNotOptimize(payload.data());
   }
   StageCounters(state, s, memory);

@@ -12,9 +12,11 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "bitstream/format.h"
@@ -86,6 +88,11 @@ inline std::vector<uint8_t> RepairChecksums(std::span<const uint8_t> stream) {
 
 // Stops the fuzzer with a crash report (an invariant of a successful result was broken).
 [[noreturn]] inline void InvariantBroken() { std::abort(); }
+// The same, saying which invariant broke (printed before the abort, so it is in the crash log).
+[[noreturn]] inline void InvariantBroken(const std::string& what) {
+  std::fprintf(stderr, "invariant broken: %s\n", what.c_str());
+  std::abort();
+}
 
 // What every mesh-file parser promises of a result it accepts: whole xyz triples and triangles,
 // and corners that index its vertices.

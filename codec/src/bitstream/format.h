@@ -27,6 +27,9 @@ inline constexpr uint64_t kMaxSegmentFrames = 4096;
 inline constexpr uint64_t kMaxRank = 1024;
 inline constexpr uint64_t kMaxChunkBytes = uint64_t{1} << 32;
 inline constexpr uint32_t kMaxNameLength = 256;
+// Largest |q| of a quantised residual (spec §8.6): a decoder reports corrupt-stream beyond it, so
+// an encoder must never write one.
+inline constexpr int64_t kMaxResidualMagnitude = int64_t{1} << 40;
 
 struct SequenceHeader {
   uint32_t vertex_count = 0;

@@ -310,7 +310,7 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
       IntegerContexts& ctx =
           contexts->sets[group][format::ResidualNeighbourBucket(topology, position, q, v, i)];
       DMC_RETURN_IF_ERROR(decoder.DecodeSigned(ctx, &q[v]));
-      if (q[v] > (int64_t{1} << 40) || q[v] < -(int64_t{1} << 40)) {
+      if (q[v] > format::kMaxResidualMagnitude || q[v] < -format::kMaxResidualMagnitude) {
         return CorruptStreamError("residual out of range");
       }
       syntax.delta(v, k) = static_cast<double>(q[v]) * syntax.header.residual_step;

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <string>
 
 #include "bitstream/syntax.h"
 #include "encoder/range_encoder.h"
@@ -207,13 +208,15 @@ std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
   return encoder.Finish();
 }
 
-std::vector<uint8_t> WriteResiduals(const Eigen::MatrixXd& delta, const MeshTopology& topology,
-                                    const std::vector<int32_t>& vertex_order,
-                                    const format::SegmentHeader& header, Eigen::MatrixXd* decoded) {
+StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
+                                              const MeshTopology& topology,
+                                              const std::vector<int32_t>& vertex_order,
+                                              const format::SegmentHeader& header,
+                                              Eigen::MatrixXd* decoded) {
   const int v_count = topology.vertex_count;
   const int rank = static_cast<int>(header.rank);
   decoded->resize(v_count, rank);
-  if (rank == 0) return {};
+  if (rank == 0) return std::vector<uint8_t>();
   RangeEncoder encoder;
   auto contexts = std::make_unique<format::ResidualContexts>();
   std::vector<int32_t> position(v_count);
@@ -223,7 +226,15 @@ std::vector<uint8_t> WriteResiduals(const Eigen::MatrixXd& delta, const MeshTopo
     const int group = format::ResidualColumnGroup(k);
     for (int i = 0; i < v_count; ++i) {
       const int v = vertex_order[i];
-      q[v] = std::llround(delta(v, k) / header.residual_step);
+      const double steps = delta(v, k) / header.residual_step;
+      if (!(std::abs(steps) <= static_cast<double>(format::kMaxResidualMagnitude))) {
+        return UnsupportedError(
+            "the residual of vertex " + std::to_string(v) + " in component " + std::to_string(k) +
+            " is " + std::to_string(steps) + " steps, beyond the format's limit of 2^40: the " +
+            "operator amplifies this geometry too much for the residual step; use fewer residual " +
+            "bits or another operator");
+      }
+      q[v] = std::llround(steps);
       encoder.EncodeSigned(
           contexts->sets[group][format::ResidualNeighbourBucket(topology, position, q, v, i)],
           q[v]);

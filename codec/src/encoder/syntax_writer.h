@@ -9,6 +9,7 @@
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "dmc/sequence.h"
+#include "dmc/status.h"
 #include "dmc/topology.h"
 #include "entropy/byte_io.h"
 
@@ -54,9 +55,13 @@ std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
                                   Eigen::MatrixXd* decoded_values);
 
 // Quantises delta-trajectories (V×r) with header.residual_step and codes them column by column
-// in `vertex_order`; returns the dequantised deltas.
-std::vector<uint8_t> WriteResiduals(const Eigen::MatrixXd& delta, const MeshTopology& topology,
-                                    const std::vector<int32_t>& vertex_order,
-                                    const format::SegmentHeader& header, Eigen::MatrixXd* decoded);
+// in `vertex_order`; returns the dequantised deltas. kUnsupported when a quantised residual would
+// exceed format::kMaxResidualMagnitude steps (an operator that amplifies near-degenerate geometry
+// enormously, with a very fine step), since no decoder would accept the stream.
+StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
+                                              const MeshTopology& topology,
+                                              const std::vector<int32_t>& vertex_order,
+                                              const format::SegmentHeader& header,
+                                              Eigen::MatrixXd* decoded);
 
 }  // namespace dmc::syntax

@@ -24,7 +24,8 @@ void StoreLittleEndian32(uint32_t value, uint8_t* out) {
   for (int k = 0; k < 4; ++k) out[k] = static_cast<uint8_t>(value >> (8 * k));
 }
 
-uint32_t LoadLittleEndian32(const uint8_t* bytes) {
+// Used on big-endian hosts only.
+[[maybe_unused]] uint32_t LoadLittleEndian32(const uint8_t* bytes) {
   return static_cast<uint32_t>(bytes[0]) | static_cast<uint32_t>(bytes[1]) << 8 |
          static_cast<uint32_t>(bytes[2]) << 16 | static_cast<uint32_t>(bytes[3]) << 24;
 }
