@@ -6,11 +6,10 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <map>
-#include <memory>
 #include <utility>
 #include <vector>
 
+#include "bench/bench_support.h"
 #include "dmc/operators.h"
 #include "dmc/spacetime.h"
 #include "dmc/synth.h"
@@ -19,15 +18,7 @@ namespace dmc {
 namespace {
 
 const MeshSequence& Cloth(int resolution, int frames) {
-  static std::map<std::pair<int, int>, std::unique_ptr<MeshSequence>> cache;
-  auto& slot = cache[{resolution, frames}];
-  if (!slot) {
-    SynthOptions options;
-    options.resolution = resolution;
-    options.frames = frames;
-    slot = std::make_unique<MeshSequence>(*Synthesize("cloth", options));
-  }
-  return *slot;
+  return bench::Synthesized("cloth", resolution, frames);
 }
 
 void BM_SpacetimeBuild(benchmark::State& state) {

@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -24,19 +25,24 @@
 
 namespace dmc::bench {
 
-// The walker (six skinned capsules, 11 bones): articulated motion like the real captures, and a
-// resolution parameter, so every size comes from the same generator. Built once per
-// (resolution, frames) and kept for the whole run.
-inline const MeshSequence& Walker(int resolution, int frames) {
-  static std::map<std::pair<int, int>, std::unique_ptr<MeshSequence>> cache;
-  auto& slot = cache[{resolution, frames}];
+// A built-in animation (dmc/synth.h) at a resolution and frame count, built once per
+// (name, resolution, frames) and kept for the whole run.
+inline const MeshSequence& Synthesized(const std::string& name, int resolution, int frames) {
+  static std::map<std::tuple<std::string, int, int>, std::unique_ptr<MeshSequence>> cache;
+  auto& slot = cache[{name, resolution, frames}];
   if (!slot) {
     SynthOptions options;
     options.resolution = resolution;
     options.frames = frames;
-    slot = std::make_unique<MeshSequence>(*Synthesize("walker", options));
+    slot = std::make_unique<MeshSequence>(*Synthesize(name, options));
   }
   return *slot;
+}
+
+// The walker (six skinned capsules, 11 bones): articulated motion like the real captures, and a
+// resolution parameter, so every size comes from the same generator.
+inline const MeshSequence& Walker(int resolution, int frames) {
+  return Synthesized("walker", resolution, frames);
 }
 
 // Peak resident memory of the process, measured per benchmark: construction returns free heap
