@@ -16,15 +16,6 @@ namespace {
 
 constexpr char kMagic[12] = {'P', 'O', 'I', 'N', 'T', 'C', 'A', 'C', 'H', 'E', '2', '\0'};
 
-uint32_t LoadLittleEndian32(const uint8_t* bytes) {
-  return static_cast<uint32_t>(bytes[0]) | static_cast<uint32_t>(bytes[1]) << 8 |
-         static_cast<uint32_t>(bytes[2]) << 16 | static_cast<uint32_t>(bytes[3]) << 24;
-}
-
-void StoreLittleEndian32(uint32_t value, std::string& out) {
-  for (int shift = 0; shift < 32; shift += 8) out.push_back(static_cast<char>(value >> shift));
-}
-
 int32_t LoadInt32(const uint8_t* bytes) { return static_cast<int32_t>(LoadLittleEndian32(bytes)); }
 float LoadFloat(const uint8_t* bytes) { return std::bit_cast<float>(LoadLittleEndian32(bytes)); }
 
@@ -108,19 +99,26 @@ StatusOr<Pc2Header> ReadPc2Header(const std::filesystem::path& path) {
   return header;
 }
 
+std::array<uint8_t, kPc2HeaderBytes> EncodePc2Header(int point_count, int sample_count) {
+  std::array<uint8_t, kPc2HeaderBytes> header{};
+  std::memcpy(header.data(), kMagic, sizeof(kMagic));
+  StoreLittleEndian32(1, header.data() + 12);
+  StoreLittleEndian32(static_cast<uint32_t>(point_count), header.data() + 16);
+  StoreLittleEndian32(std::bit_cast<uint32_t>(0.0f), header.data() + 20);  // startFrame
+  StoreLittleEndian32(std::bit_cast<uint32_t>(1.0f), header.data() + 24);  // sampleRate
+  StoreLittleEndian32(static_cast<uint32_t>(sample_count), header.data() + 28);
+  return header;
+}
+
 std::string EncodePc2(const MeshSequence& sequence) {
-  std::string out;
   const size_t value_count = sequence.position_value_count();
-  out.reserve(kPc2HeaderBytes + value_count * 4);
-  out.append(kMagic, sizeof(kMagic));
-  StoreLittleEndian32(1, out);
-  StoreLittleEndian32(static_cast<uint32_t>(sequence.vertex_count()), out);
-  StoreLittleEndian32(std::bit_cast<uint32_t>(0.0f), out);  // startFrame
-  StoreLittleEndian32(std::bit_cast<uint32_t>(1.0f), out);  // sampleRate: one sample per frame
-  StoreLittleEndian32(static_cast<uint32_t>(sequence.frame_count()), out);
+  const auto header = EncodePc2Header(sequence.vertex_count(), sequence.frame_count());
+  std::string out(kPc2HeaderBytes + value_count * 4, '\0');
+  std::memcpy(out.data(), header.data(), kPc2HeaderBytes);
+  auto* samples = reinterpret_cast<uint8_t*>(out.data() + kPc2HeaderBytes);
   const float* values = sequence.data();
   for (size_t i = 0; i < value_count; ++i) {
-    StoreLittleEndian32(std::bit_cast<uint32_t>(values[i]), out);
+    StoreLittleEndian32(std::bit_cast<uint32_t>(values[i]), samples + 4 * i);
   }
   return out;
 }

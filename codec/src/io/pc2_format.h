@@ -6,6 +6,7 @@
 // frames: sampleRate is the spacing of two samples (1 = one sample per frame), not a rate in Hz.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -23,6 +24,18 @@ struct Pc2Header {
 };
 
 inline constexpr size_t kPc2HeaderBytes = 32;
+
+// Little-endian 32-bit words, the byte order of every PC2 field and sample.
+inline uint32_t LoadLittleEndian32(const uint8_t* bytes) {
+  return static_cast<uint32_t>(bytes[0]) | static_cast<uint32_t>(bytes[1]) << 8 |
+         static_cast<uint32_t>(bytes[2]) << 16 | static_cast<uint32_t>(bytes[3]) << 24;
+}
+inline void StoreLittleEndian32(uint32_t value, uint8_t* out) {
+  for (int k = 0; k < 4; ++k) out[k] = static_cast<uint8_t>(value >> (8 * k));
+}
+
+// The header dmc writes: version 1, startFrame 0, sampleRate 1 (one sample per frame).
+std::array<uint8_t, kPc2HeaderBytes> EncodePc2Header(int point_count, int sample_count);
 
 // Parses and checks a header against the size of the file it came from: the declared samples
 // must fill the file exactly (kParseError naming both sizes otherwise), version must be 1

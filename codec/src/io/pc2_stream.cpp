@@ -18,18 +18,6 @@
 namespace dmc::io_internal {
 namespace {
 
-constexpr char kPc2Magic[12] = {'P', 'O', 'I', 'N', 'T', 'C', 'A', 'C', 'H', 'E', '2', '\0'};
-
-void StoreLittleEndian32(uint32_t value, uint8_t* out) {
-  for (int k = 0; k < 4; ++k) out[k] = static_cast<uint8_t>(value >> (8 * k));
-}
-
-// Used on big-endian hosts only.
-[[maybe_unused]] uint32_t LoadLittleEndian32(const uint8_t* bytes) {
-  return static_cast<uint32_t>(bytes[0]) | static_cast<uint32_t>(bytes[1]) << 8 |
-         static_cast<uint32_t>(bytes[2]) << 16 | static_cast<uint32_t>(bytes[3]) << 24;
-}
-
 // Writes all of `bytes` to `fd`, retrying short writes; 0 or the errno of the failure.
 int WriteAll(int fd, std::span<const uint8_t> bytes) {
   size_t done = 0;
@@ -193,15 +181,7 @@ StatusOr<Pc2PairWriter> Pc2PairWriter::Create(const std::filesystem::path& outpu
   mesh_path.replace_extension(".obj");
   DMC_ASSIGN_OR_RETURN(StagedFile cache, StagedFile::Create(output));
   DMC_ASSIGN_OR_RETURN(StagedFile mesh, StagedFile::Create(mesh_path));
-  // The header EncodePc2 writes: startFrame 0, sampleRate 1 (one sample per frame).
-  uint8_t header[kPc2HeaderBytes];
-  std::memcpy(header, kPc2Magic, sizeof(kPc2Magic));
-  StoreLittleEndian32(1, header + 12);
-  StoreLittleEndian32(static_cast<uint32_t>(vertex_count), header + 16);
-  StoreLittleEndian32(std::bit_cast<uint32_t>(0.0f), header + 20);
-  StoreLittleEndian32(std::bit_cast<uint32_t>(1.0f), header + 24);
-  StoreLittleEndian32(static_cast<uint32_t>(frame_count), header + 28);
-  DMC_RETURN_IF_ERROR(cache.Append(header));
+  DMC_RETURN_IF_ERROR(cache.Append(EncodePc2Header(vertex_count, frame_count)));
   return Pc2PairWriter(std::move(cache), std::move(mesh), vertex_count, frame_count,
                        std::move(triangles), frame_rate);
 }
