@@ -76,6 +76,12 @@ struct ValidationReport {
 // Degenerate triangles are not fatal: they are counted and described in `report` (may be null).
 Status ValidateSequence(const MeshSequence& sequence, ValidationReport* report = nullptr);
 
+// ValidateSequence's coordinate check on `frame_count` frames stored from `values` (V×3 floats
+// each, the MeshSequence layout) whose first is frame `first_frame`: kInvalidSequence
+// "frame F, vertex V: coordinate y is not finite" at the first NaN or infinity. For callers that
+// hold frames a block at a time (the streaming encoder and measurement).
+Status CheckFiniteFrames(const float* values, int first_frame, int frame_count, int vertex_count);
+
 // Fails with kMismatch naming the first difference if `a` and `b` cannot be compared vertex by
 // vertex: frame count, vertex count, or triangles. Triangle lists match when they hold the same
 // set of oriented triangles (order and rotation of each triangle's indices may differ, as after

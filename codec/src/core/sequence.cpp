@@ -29,6 +29,19 @@ void MeshSequence::ResizeFrames(int frame_count) {
   positions_.resize(static_cast<size_t>(frame_count) * vertex_count_ * 3, 0.0f);
 }
 
+Status CheckFiniteFrames(const float* values, int first_frame, int frame_count, int vertex_count) {
+  const size_t per_frame = static_cast<size_t>(vertex_count) * 3;
+  const size_t count = per_frame * static_cast<size_t>(frame_count);
+  for (size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(values[i])) {
+      return InvalidSequenceError("frame " + std::to_string(first_frame + i / per_frame) +
+                                  ", vertex " + std::to_string((i % per_frame) / 3) +
+                                  ": coordinate " + "xyz"[i % 3] + " is not finite");
+    }
+  }
+  return Status::Ok();
+}
+
 Status ValidateSequence(const MeshSequence& sequence, ValidationReport* report) {
   const int v_count = sequence.vertex_count();
   if (v_count <= 0) return InvalidSequenceError("the sequence has no vertices");
@@ -49,18 +62,7 @@ Status ValidateSequence(const MeshSequence& sequence, ValidationReport* report) 
       }
     }
   }
-  for (int f = 0; f < sequence.frame_count(); ++f) {
-    const auto positions = sequence.frame(f);
-    for (int v = 0; v < v_count; ++v) {
-      for (int k = 0; k < 3; ++k) {
-        if (!std::isfinite(positions(v, k))) {
-          return InvalidSequenceError("frame " + std::to_string(f) + ", vertex " +
-                                      std::to_string(v) + ": coordinate " + "xyz"[k] +
-                                      " is not finite");
-        }
-      }
-    }
-  }
+  DMC_RETURN_IF_ERROR(CheckFiniteFrames(sequence.data(), 0, sequence.frame_count(), v_count));
   ValidationReport local;
   ValidationReport& out = report ? *report : local;
   const auto first = sequence.frame(0);

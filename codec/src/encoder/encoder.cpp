@@ -501,20 +501,6 @@ int FramesPerRead(int vertex_count, int frame_count) {
       std::clamp<size_t>(kReadBytes / frame_bytes, 1, static_cast<size_t>(frame_count)));
 }
 
-// kInvalidSequence naming frame, vertex and coordinate, as ValidateSequence words it.
-Status CheckFiniteFrames(const float* values, int first_frame, int frames, int vertex_count) {
-  const size_t per_frame = static_cast<size_t>(vertex_count) * 3;
-  const size_t count = per_frame * static_cast<size_t>(frames);
-  for (size_t i = 0; i < count; ++i) {
-    if (!std::isfinite(values[i])) {
-      return InvalidSequenceError("frame " + std::to_string(first_frame + i / per_frame) +
-                                  ", vertex " + std::to_string((i % per_frame) / 3) +
-                                  ": coordinate " + "xyz"[i % 3] + " is not finite");
-    }
-  }
-  return Status::Ok();
-}
-
 // One segment travelling through the streaming encoder's pipeline.
 struct SegmentWork {
   int index = 0;

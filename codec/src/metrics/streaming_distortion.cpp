@@ -66,16 +66,10 @@ Status StreamingDistortion::AddSegment(int first, int count, const float* origin
                                 std::to_string(first + count) + ") out of order (next frame " +
                                 std::to_string(next_frame_) + ")");
   }
-  // ValidateSequence's check of the decoded frames, with its message (the in-memory meter
-  // validates the whole decoded sequence).
-  const size_t frame_stride = static_cast<size_t>(vertex_count_) * 3;
-  for (size_t i = 0; i < static_cast<size_t>(count) * frame_stride; ++i) {
-    if (!std::isfinite(decoded[i])) {
-      return InvalidSequenceError("distorted: frame " + std::to_string(first + i / frame_stride) +
-                                  ", vertex " + std::to_string((i % frame_stride) / 3) +
-                                  ": coordinate " + "xyz"[i % 3] + " is not finite");
-    }
-  }
+  // ValidateSequence's check of the decoded frames (the in-memory meter validates the whole
+  // decoded sequence and prefixes "distorted").
+  DMC_RETURN_IF_ERROR(
+      CheckFiniteFrames(decoded, first, count, vertex_count_).WithContext("distorted"));
   const metrics_internal::FrameWindow original_frames{original, OriginalWindow(first, count).first,
                                                       vertex_count_, nullptr};
   const metrics_internal::FrameWindow decoded_frames{
@@ -87,7 +81,7 @@ Status StreamingDistortion::AddSegment(int first, int count, const float* origin
                                            error_sums_);
 
   const float* last_decoded = decoded_frames.frame(end - 1);
-  previous_decoded_.assign(last_decoded, last_decoded + frame_stride);
+  previous_decoded_.assign(last_decoded, last_decoded + static_cast<size_t>(vertex_count_) * 3);
   next_frame_ = end;
   return Status::Ok();
 }
