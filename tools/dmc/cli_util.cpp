@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <iostream>
 
@@ -24,6 +26,56 @@ void ReportWarning(std::string_view command, std::string_view text) {
 }
 
 void PrintJson(const nlohmann::json& document) { std::cout << document.dump(2) << std::endl; }
+
+void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags, std::string_view applies_to) {
+  const std::string prefix(applies_to);
+  GltfReadOptions& options = flags->options;
+  flags->cli_options = {
+      app->add_option("--gltf-fps", options.frame_rate,
+                      prefix + ": sampling frame rate (default: the rate a dmc export recorded, "
+                               "else 30)")
+          ->check(CLI::PositiveNumber),
+      app->add_option("--gltf-mesh", options.mesh,
+                      prefix + ": only this mesh or node (all its primitives; default: every "
+                               "mesh of the scene)"),
+      app->add_option("--gltf-animation", options.animation,
+                      prefix + ": animation name or index (default: the first)"),
+      app->add_flag("--gltf-weld", options.weld,
+                    prefix + ": weld seam-split vertices (same position, different UV/normal)"),
+  };
+}
+
+bool IsGltfPath(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".glb" || extension == ".gltf";
+}
+
+std::vector<std::string> GivenGltfOptions(const GltfReadFlags& flags) {
+  std::vector<std::string> given;
+  for (const CLI::Option* option : flags.cli_options) {
+    if (option->count() > 0) given.push_back(option->get_name());
+  }
+  return given;
+}
+
+bool WarnIfGltfOptionsUnused(std::string_view command, const GltfReadFlags& flags,
+                             const std::vector<std::string>& inputs) {
+  const std::vector<std::string> given = GivenGltfOptions(flags);
+  if (given.empty()) return false;
+  std::string named_inputs;
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    if (IsGltfPath(input)) return false;
+    named_inputs += (named_inputs.empty() ? "" : ", ") + input;
+  }
+  std::string names;
+  for (const std::string& name : given) names += (names.empty() ? "" : ", ") + name;
+  ReportWarning(command, names + " ignored: no .glb/.gltf input" +
+                             (named_inputs.empty() ? std::string() : " (" + named_inputs + ")"));
+  return true;
+}
 
 Progress::Progress(std::string label, long total)
     : label_(std::move(label)), total_(total), enabled_(isatty(STDERR_FILENO) != 0) {}

@@ -1,11 +1,16 @@
-// Shared helpers of the dmc subcommands: error reporting, JSON output, progress.
+// Shared helpers of the dmc subcommands: error reporting, JSON output, progress, and the glTF
+// read options every sequence-reading subcommand offers.
 #pragma once
 
+#include <CLI/CLI.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
+#include "dmc/io.h"
 #include "dmc/status.h"
 
 namespace dmc::cli {
@@ -37,5 +42,35 @@ class Progress {
   bool enabled_;
   int last_percent_ = -1;
 };
+
+// The glTF read options of one subcommand: the values (GltfReadOptions, for ReadOptions::gltf)
+// and the CLI11 options that set them, so the command can tell whether the user gave any.
+struct GltfReadFlags {
+  GltfReadOptions options;
+  std::vector<const CLI::Option*> cli_options;  // filled by AddGltfReadOptions
+};
+
+// Adds --gltf-fps (> 0), --gltf-mesh NAME, --gltf-animation NAME|INDEX and --gltf-weld to `app`,
+// writing into flags->options. Every sequence-reading subcommand uses this one definition, so the
+// names, checks and help texts cannot drift apart. `applies_to` starts each help text and names
+// the inputs concerned, e.g. "glTF input" or "glTF originals". `flags` must outlive parsing and
+// the run (keep it in the command's shared argument struct).
+void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags,
+                        std::string_view applies_to = "glTF input");
+
+// True when `path` names a .glb or .gltf file (extension compared case-insensitively), the
+// only inputs ReadSequence applies GltfReadOptions to.
+bool IsGltfPath(const std::filesystem::path& path);
+
+// The --gltf-* options given explicitly on the command line, in declaration order.
+std::vector<std::string> GivenGltfOptions(const GltfReadFlags& flags);
+
+// When --gltf-* options were given but none of `inputs` is a glTF file, warns (ReportWarning)
+// "--gltf-fps, --gltf-weld ignored: no .glb/.gltf input (a.obj, b.pc2)"; returns whether it
+// warned. Empty entries of
+// `inputs` (optional inputs not given) are skipped. A warning rather than a usage error because
+// the options are harmless there, and scripts may pass one option set to mixed inputs.
+bool WarnIfGltfOptionsUnused(std::string_view command, const GltfReadFlags& flags,
+                             const std::vector<std::string>& inputs);
 
 }  // namespace dmc::cli

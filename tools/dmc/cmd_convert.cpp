@@ -18,10 +18,12 @@ struct ConvertArgs {
   std::string frame_format = "obj";
   std::string connectivity;
   int max_frames = 0;
+  GltfReadFlags gltf;
   bool json = false;
 };
 
 int RunConvert(const ConvertArgs& args) {
+  WarnIfGltfOptionsUnused("convert", args.gltf, {args.input});
   std::optional<Progress> progress;
   auto report_progress = [&progress](std::string label) {
     return [&progress, label](int done, int total) {
@@ -32,6 +34,7 @@ int RunConvert(const ConvertArgs& args) {
   ReadOptions read_options;
   read_options.connectivity = args.connectivity;
   read_options.max_frames = args.max_frames;
+  read_options.gltf = args.gltf.options;
   read_options.progress = report_progress("reading");
   ReadReport report;
   StatusOr<MeshSequence> sequence = ReadSequence(args.input, read_options, &report);
@@ -73,7 +76,7 @@ Command AddConvertCommand(CLI::App& parent) {
       "frame_NNNN files");
   app->add_option("input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
-                  "one mesh file, or a .pc2 cache")
+                  "one mesh file, a .pc2 cache, or a .glb/.gltf animation")
       ->required();
   app->add_option("-o,--output", args->output, "Output path (see above)")->required();
   app->add_option("--frame-format", args->frame_format,
@@ -85,6 +88,7 @@ Command AddConvertCommand(CLI::App& parent) {
                   ".ply beside the cache)");
   app->add_option("--max-frames", args->max_frames, "Convert only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
+  AddGltfReadOptions(app, &args->gltf);
   app->add_flag("--json", args->json, "Print a JSON summary instead of text");
   return {app, [args] { return RunConvert(*args); }};
 }

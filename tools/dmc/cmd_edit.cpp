@@ -37,6 +37,7 @@ struct EditArgs {
   double ddl_mu = 0.0;
   std::string ddl_reference = "tutte";
   std::string frame_format = "ply";
+  GltfReadFlags gltf;
   bool json = false;
   // One slot per declared parameter: its CLI option and the text the user gave.
   struct ParameterSlot {
@@ -138,8 +139,11 @@ int RunEdit(const MethodInfo& method, const EditArgs& args) {
         args.json);
   }
 
+  WarnIfGltfOptionsUnused(command, args.gltf, {args.input});
+  ReadOptions read_options;
+  read_options.gltf = args.gltf.options;
   ReadReport report;
-  StatusOr<MeshSequence> sequence = ReadSequence(args.input, {}, &report);
+  StatusOr<MeshSequence> sequence = ReadSequence(args.input, read_options, &report);
   if (!sequence.ok()) return ReportError(command, sequence.status(), args.json);
   if (!args.json) {
     for (const std::string& warning : report.warnings) ReportWarning(command, warning);
@@ -206,7 +210,7 @@ Command AddMethodSubcommand(CLI::App& edit, const MethodInfo& method) {
   CLI::App* app = edit.add_subcommand(std::string(method.name), std::string(method.description));
   app->add_option("input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
-                  "one mesh file, or a .pc2 cache")
+                  "one mesh file, a .pc2 cache, or a .glb/.gltf animation")
       ->required();
   app->add_option("-o,--output", args->output,
                   "Output: a mesh file (.obj/.off/.ply, one frame), a .pc2 cache, or a directory "
@@ -241,6 +245,7 @@ Command AddMethodSubcommand(CLI::App& edit, const MethodInfo& method) {
                   "Per-frame file format when OUTPUT is a directory: obj, off or ply")
       ->check(CLI::IsMember({"obj", "off", "ply"}))
       ->capture_default_str();
+  AddGltfReadOptions(app, &args->gltf);
   app->add_flag("--json", args->json,
                 "Print a JSON object: method, operator, input_frames, output_frames, vertices, "
                 "parameters, precompute_seconds, apply_seconds, scalar, measurements "

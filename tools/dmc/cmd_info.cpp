@@ -18,6 +18,7 @@ struct InfoArgs {
   std::string input;
   std::string connectivity;
   int max_frames = 0;
+  GltfReadFlags gltf;
   bool json = false;
 };
 
@@ -90,10 +91,12 @@ int RunStreamInfo(const InfoArgs& args) {
 }
 
 int RunInfo(const InfoArgs& args) {
+  WarnIfGltfOptionsUnused("info", args.gltf, {args.input});
   if (std::filesystem::path(args.input).extension() == ".dmc") return RunStreamInfo(args);
   ReadOptions options;
   options.connectivity = args.connectivity;
   options.max_frames = args.max_frames;
+  options.gltf = args.gltf.options;
   std::optional<Progress> progress;
   options.progress = [&progress](int done, int total) {
     if (!progress) progress.emplace("reading", total);
@@ -171,13 +174,14 @@ Command AddInfoCommand(CLI::App& parent) {
       "components, manifoldness, Euler characteristic, bounding box");
   app->add_option("input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
-                  "one mesh file, a .pc2 cache, or a .dmc stream")
+                  "one mesh file, a .pc2 cache, a .glb/.gltf animation, or a .dmc stream")
       ->required();
   app->add_option("--connectivity", args->connectivity,
                   "PC2 only: mesh file giving the triangles (default: <stem>.obj, .off or .ply "
                   "beside the cache)");
   app->add_option("--max-frames", args->max_frames, "Read only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
+  AddGltfReadOptions(app, &args->gltf);
   app->add_flag("--json", args->json, "Print a JSON object instead of text");
   return {app, [args] { return RunInfo(*args); }};
 }

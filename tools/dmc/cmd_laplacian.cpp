@@ -38,6 +38,7 @@ struct LaplacianArgs {
   bool json = false;
   int depth = 0;     // bspline: octree depth, 0 = automatic
   int spectrum = 0;  // > 0: print this many smallest eigenvalues instead of the report
+  GltfReadFlags gltf;
 };
 
 struct Properties {
@@ -400,7 +401,9 @@ int RunLaplacian(const LaplacianArgs& args) {
   }
   const OperatorInfo* info = *FindOperator(args.operator_name);
 
+  WarnIfGltfOptionsUnused(kCommand, args.gltf, {args.input});
   ReadOptions read_options;
+  read_options.gltf = args.gltf.options;
   std::optional<Progress> progress;
   read_options.progress = [&progress](int done, int total) {
     if (!progress) progress.emplace("reading", total);
@@ -576,7 +579,7 @@ Command AddLaplacianCommand(CLI::App& parent) {
       "normal-matrix conditioning experiment (random x, b = N x, b + noise, solve, |x - x'|)");
   app->add_option("input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
-                  "one mesh file, or a .pc2 cache")
+                  "one mesh file, a .pc2 cache, or a .glb/.gltf animation")
       ->required();
   std::string names;
   for (const OperatorInfo& info : OperatorRegistry()) {
@@ -622,6 +625,7 @@ Command AddLaplacianCommand(CLI::App& parent) {
                   "mass: bspline its element mass matrix at --depth, spacetime its dual volumes, "
                   "other symmetric operators their vertex areas (identity without)")
       ->capture_default_str();
+  AddGltfReadOptions(app, &args->gltf);
   app->add_flag("--json", args->json,
                 "Print a JSON object with keys operator, symmetry_error, max_row_sum, "
                 "negative_weight_share, delta_mean, delta_max (null for bspline), cholesky_ok "

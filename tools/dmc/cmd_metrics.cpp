@@ -18,12 +18,15 @@ struct MetricsArgs {
   std::string original;
   std::string distorted;
   StedOptions sted;
+  GltfReadFlags gltf;  // the same options for both inputs
   bool json = false;
 };
 
 // Reads one input, printing its read warnings (on stderr) unless the output is JSON.
-StatusOr<MeshSequence> ReadInput(const std::string& path, const std::string& role, bool json) {
+StatusOr<MeshSequence> ReadInput(const std::string& path, const std::string& role,
+                                 const GltfReadOptions& gltf, bool json) {
   ReadOptions options;
+  options.gltf = gltf;
   std::optional<Progress> progress;
   options.progress = [&progress, &role](int done, int total) {
     if (!progress) progress.emplace("reading " + role, total);
@@ -43,9 +46,12 @@ int RunMetrics(const MetricsArgs& args) {
   if (Status valid = ValidateStedOptions(args.sted); !valid.ok()) {
     return ReportError("metrics", valid, args.json);
   }
-  StatusOr<MeshSequence> original = ReadInput(args.original, "original", args.json);
+  WarnIfGltfOptionsUnused("metrics", args.gltf, {args.original, args.distorted});
+  StatusOr<MeshSequence> original =
+      ReadInput(args.original, "original", args.gltf.options, args.json);
   if (!original.ok()) return ReportError("metrics", original.status(), args.json);
-  StatusOr<MeshSequence> distorted = ReadInput(args.distorted, "distorted", args.json);
+  StatusOr<MeshSequence> distorted =
+      ReadInput(args.distorted, "distorted", args.gltf.options, args.json);
   if (!distorted.ok()) return ReportError("metrics", distorted.status(), args.json);
 
   const StatusOr<DistortionReport> report = MeasureDistortion(*original, *distorted, args.sted);
@@ -91,11 +97,12 @@ Command AddMetricsCommand(CLI::App& parent) {
       "original defines STED's edge lengths, diameter and local speed, so the order matters");
   const std::string input_help =
       "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), one mesh "
-      "file, or a .pc2 cache";
+      "file, a .pc2 cache, or a .glb/.gltf animation";
   app->add_option("original", args->original, "The reference sequence. " + input_help)->required();
   app->add_option("distorted", args->distorted,
                   "The sequence to measure (same frames, vertices and triangles). " + input_help)
       ->required();
+  AddGltfReadOptions(app, &args->gltf, "glTF inputs (the same for both)");
   app->add_flag("--json", args->json,
                 "Print a JSON object with keys kg, sted, sted_s, sted_t, rmse_rel, max_error, "
                 "frames, vertices");

@@ -3,6 +3,8 @@
 // the same metrics; writes rd.csv, rd_sted.svg, rd_kg.svg and summary.md.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -29,6 +31,7 @@ struct SweepArgs {
   std::vector<std::string> baselines = {"draco", "meshopt", "zstd"};
   std::vector<double> sted_targets = {0.01, 0.02, 0.05};
   sweep::SweepOptions options;
+  GltfReadFlags gltf;
   bool json = false;
 };
 
@@ -36,6 +39,18 @@ std::string Join(const std::vector<std::string>& items) {
   std::string joined;
   for (const std::string& item : items) joined += (joined.empty() ? "" : ",") + item;
   return joined;
+}
+
+// `text` as one shell word: unchanged when it is plain, else single-quoted (glTF mesh and
+// animation names may hold spaces).
+std::string ShellWord(const std::string& text) {
+  const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](unsigned char c) {
+    return std::isalnum(c) != 0 || c == '_' || c == '-' || c == '.' || c == '/';
+  });
+  if (plain) return text;
+  std::string quoted = "'";
+  for (const char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
 }
 
 // The equivalent command line, written into summary.md so a sweep can be rerun.
@@ -54,6 +69,11 @@ std::string CommandLine(const SweepArgs& args) {
       o.max_residual_bits, o.basis_bits, o.min_baseline_bits, o.max_baseline_bits, targets);
   if (args.max_frames > 0) line += fmt::format(" --max-frames {}", args.max_frames);
   if (!args.connectivity.empty()) line += " --connectivity " + args.connectivity;
+  const GltfReadOptions& gltf = args.gltf.options;
+  if (gltf.frame_rate > 0.0) line += fmt::format(" --gltf-fps {:g}", gltf.frame_rate);
+  if (!gltf.mesh.empty()) line += " --gltf-mesh " + ShellWord(gltf.mesh);
+  if (!gltf.animation.empty()) line += " --gltf-animation " + ShellWord(gltf.animation);
+  if (gltf.weld) line += " --gltf-weld";
   return line;
 }
 
@@ -118,9 +138,11 @@ int RunSweep(SweepArgs args) {
                        args.json);
   }
 
+  WarnIfGltfOptionsUnused("sweep", args.gltf, {args.input});
   ReadOptions read_options;
   read_options.connectivity = args.connectivity;
   read_options.max_frames = args.max_frames;
+  read_options.gltf = args.gltf.options;
   ReadReport read_report;
   StatusOr<MeshSequence> sequence = ReadSequence(args.input, read_options, &read_report);
   if (!sequence.ok()) return ReportError("sweep", sequence.status(), args.json);
@@ -201,7 +223,8 @@ Command AddSweepCommand(CLI::App& parent) {
       "(one curve per operator) and with baseline codecs; writes DIR/rd.csv, DIR/rd_sted.svg, "
       "DIR/rd_kg.svg and DIR/summary.md");
   app->add_option("INPUT", args->input,
-                  "Sequence: a directory of .obj/.off/.ply frames, a glob, or a .pc2 cache")
+                  "Sequence: a directory of .obj/.off/.ply frames, a glob, a .pc2 cache, or a "
+                  ".glb/.gltf animation")
       ->required();
   app->add_option("-o,--output", args->output, "Output directory (created if missing)")->required();
   app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
@@ -242,6 +265,7 @@ Command AddSweepCommand(CLI::App& parent) {
   app->add_option("--sted-window", o.sted.window, "STED speed window s")->capture_default_str();
   app->add_option("--sted-c", o.sted.c, "STED weight c of the temporal part")
       ->capture_default_str();
+  AddGltfReadOptions(app, &args->gltf);
   app->add_flag("--json", args->json, "Print the points as JSON instead of the text report");
   return {app, [args] { return RunSweep(*args); }};
 }

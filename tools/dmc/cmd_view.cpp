@@ -40,7 +40,7 @@ struct ViewArgs {
   std::string viewer_dir;
   int port = 0;
   double exit_after = 0.0;
-  GltfReadOptions gltf;
+  GltfReadFlags gltf;
   bool json = false;
 };
 
@@ -173,6 +173,7 @@ void Respond(int socket, const std::map<std::string, ServedFile>& files) {
 int RunView(const ViewArgs& args) {
   auto viewer_dir = FindViewerDir(args.viewer_dir);
   if (!viewer_dir.ok()) return ReportError("view", viewer_dir.status(), args.json);
+  WarnIfGltfOptionsUnused("view", args.gltf, {args.original});
   auto bytes = ReadFileBytes(args.input);
   if (!bytes.ok()) return ReportError("view", bytes.status(), args.json);
   StatusOr<MeshSequence> decoded = Decode(*bytes);
@@ -182,7 +183,7 @@ int RunView(const ViewArgs& args) {
   std::optional<MeshSequence> original;
   if (!args.original.empty()) {
     ReadOptions read_options;
-    read_options.gltf = args.gltf;
+    read_options.gltf = args.gltf.options;
     ReadReport report;
     StatusOr<MeshSequence> read = ReadSequence(args.original, read_options, &report);
     if (!read.ok()) return ReportError("view", read.status(), args.json);
@@ -309,13 +310,7 @@ Command AddViewCommand(CLI::App& parent) {
                   "Directory holding the built viewer (index.html, viewer.js)");
   app->add_option("--exit-after", args->exit_after, "Stop serving after this many seconds")
       ->check(CLI::NonNegativeNumber);
-  app->add_option("--gltf-fps", args->gltf.frame_rate, "glTF originals: sampling frame rate")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  app->add_option("--gltf-mesh", args->gltf.mesh, "glTF originals: only this mesh or node");
-  app->add_option("--gltf-animation", args->gltf.animation,
-                  "glTF originals: animation name or index");
-  app->add_flag("--gltf-weld", args->gltf.weld, "glTF originals: weld seam-split vertices");
+  AddGltfReadOptions(app, &args->gltf, "glTF --original");
   app->add_flag("--json", args->json, "Print the URL as JSON");
   return {app, [args] { return RunView(*args); }};
 }
