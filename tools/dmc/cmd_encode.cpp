@@ -23,6 +23,7 @@ struct EncodeArgs {
   std::string output;
   std::string connectivity;
   EncoderOptions options;
+  GltfReadFlags gltf;
   bool no_measure = false;
   bool json = false;
   bool progress = false;
@@ -49,6 +50,7 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
     }
     progress->Update(done);
   };
+  WarnIfGltfOptionsUnused("encode", args.gltf, {args.input});
   const bool rate_control = options.target_bpfv > 0.0 || options.target_sted > 0.0;
   if (IsPc2(args.input) && !rate_control) {
     std::vector<std::string> warnings;
@@ -63,6 +65,7 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
   }
   ReadOptions read_options;
   read_options.connectivity = args.connectivity;
+  read_options.gltf = args.gltf.options;
   read_options.progress = [&](int done, int total) { show("reading", done, total); };
   ReadReport read_report;
   DMC_ASSIGN_OR_RETURN(const MeshSequence sequence,
@@ -150,6 +153,7 @@ Command AddEncodeCommand(CLI::App& parent) {
       ->required();
   app->add_option("-o,--output", args->output, "Output .dmc file")->required();
   app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
+  AddGltfReadOptions(app, &args->gltf);
   EncoderOptions& o = args->options;
   app->add_option(
          "--operator", o.operator_name,
