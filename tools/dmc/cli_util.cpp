@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 namespace dmc::cli {
@@ -27,6 +29,24 @@ void ReportWarning(std::string_view command, std::string_view text) {
 
 void PrintJson(const nlohmann::json& document) { std::cout << document.dump(2) << std::endl; }
 
+namespace {
+
+// A positive, finite frame rate. CLI::PositiveNumber would do, but its message prints the whole
+// double range ("Value 0 not in range 0.000000 to 17976931348623157...").
+CLI::Validator PositiveFrameRate() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        const bool whole_text = end != text.c_str() && *end == '\0';
+        if (whole_text && std::isfinite(value) && value > 0.0) return {};
+        return "must be a positive number of frames per second, got '" + text + "'";
+      },
+      "FPS > 0");
+}
+
+}  // namespace
+
 void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags, std::string_view applies_to) {
   const std::string prefix(applies_to);
   GltfReadOptions& options = flags->options;
@@ -34,7 +54,7 @@ void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags, std::string_view ap
       app->add_option("--gltf-fps", options.frame_rate,
                       prefix + ": sampling frame rate (default: the rate a dmc export recorded, "
                                "else 30)")
-          ->check(CLI::PositiveNumber),
+          ->check(PositiveFrameRate()),
       app->add_option("--gltf-mesh", options.mesh,
                       prefix + ": only this mesh or node (all its primitives; default: every "
                                "mesh of the scene)"),
