@@ -1,14 +1,17 @@
 // The glTF read options (--gltf-fps, --gltf-mesh, --gltf-animation, --gltf-weld) on every command
 // that reads a sequence (issue 12): each command offers the same four options, and they reach
 // ReadSequence (frame counts follow the clip length, mesh and animation selection, welding), also
-// through encode, convert, metrics (both inputs), edit and laplacian. Given for a non-glTF input
-// they draw a warning naming them. The samples are the small ones of ../shared/data (CesiumMan,
-// 3273 vertices; Fox, 1728; RobotExpressive, 7214), read at low frame rates to stay fast.
+// through encode, convert, metrics (both inputs), edit, laplacian, sweep and view. Given for a
+// non-glTF input they draw a warning naming them. The samples are the small ones of ../shared/data
+// (CesiumMan, 3273 vertices; Fox, 1728; RobotExpressive, 7214), read at low frame rates to stay
+// fast.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -196,6 +199,40 @@ TEST(GltfOptionsCliTest, WeldReducesTheVertexCountThroughEveryCommand) {
   EXPECT_EQ(Json(laplacian)["dimension"], fox_welded);
 }
 
+TEST(GltfOptionsCliTest, SweepAndViewReadTheirGltfInputWithTheOptions) {
+  DMC_REQUIRE_SHARED_DATA(fox, "fox/Fox.glb");
+  const auto dir = FreshTempDir("gltf_options");
+  const std::string clip = " --gltf-animation Walk --gltf-fps 4 --gltf-weld";  // 3 frames
+  const CliResult sweep = RunDmc("sweep " + Quoted(fox) + " -o " + Quoted(dir / "sweep") + clip +
+                                 " --operators tutte --baselines none --points 2 --json");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.err;
+  EXPECT_EQ(Json(sweep)["frames"], PredictedFrames(kFoxWalkSeconds, 4.0));
+  const int welded = Json(sweep)["vertices"];
+  EXPECT_LT(welded, 1728 / 2);
+  // summary.md's command line reruns the same sweep, so it carries the options.
+  std::ifstream summary(dir / "sweep" / "summary.md");
+  const std::string text((std::istreambuf_iterator<char>(summary)), {});
+  EXPECT_THAT(text, HasSubstr("--gltf-fps 4 --gltf-animation Walk --gltf-weld"));
+
+  // dmc view compares its --original with the decoded stream: only the welded read matches.
+  const auto stream = dir / "fox.dmc";
+  const CliResult encoded = RunDmc("encode " + Quoted(fox) + " -o " + Quoted(stream) + clip);
+  ASSERT_EQ(encoded.exit_code, 0) << encoded.err;
+  std::filesystem::create_directories(dir / "viewer");  // a stand-in viewer build
+  std::ofstream(dir / "viewer" / "index.html") << "<!doctype html>";
+  std::ofstream(dir / "viewer" / "viewer.js") << "";
+  const std::string view = "view " + Quoted(stream) + " --original " + Quoted(fox) +
+                           " --viewer-dir " + Quoted(dir / "viewer") +
+                           " --port 0 --exit-after 0.2 --json --gltf-animation Walk --gltf-fps 4";
+  const CliResult unwelded = RunDmc(view);
+  EXPECT_EQ(unwelded.exit_code, ExitCode(ErrorCode::kMismatch));
+  EXPECT_THAT(unwelded.err, HasSubstr("1728 vs " + std::to_string(welded)));
+  const CliResult served = RunDmc(view + " --gltf-weld");
+  ASSERT_EQ(served.exit_code, 0) << served.err;
+  EXPECT_THAT(Json(served)["url"].get<std::string>(), HasSubstr("http://127.0.0.1:"));
+  EXPECT_EQ(Json(served)["frames"], 3);
+}
+
 TEST(GltfOptionsCliTest, OptionsGivenForANonGltfInputDrawAWarningNamingThem) {
   const auto dir = FreshTempDir("gltf_options");
   const auto mesh = dir / "tetra.obj";
@@ -219,6 +256,14 @@ TEST(GltfOptionsCliTest, OptionsGivenForANonGltfInputDrawAWarningNamingThem) {
       RunDmc("convert " + Quoted(mesh) + " -o " + Quoted(dir / "t.ply") + " --gltf-animation 1");
   ASSERT_EQ(convert.exit_code, 0) << convert.err;
   EXPECT_THAT(convert.err, HasSubstr("dmc convert: warning: --gltf-animation ignored"));
+  // dmc view: the options concern --original; without one they are ignored too.
+  std::filesystem::create_directories(dir / "viewer");
+  std::ofstream(dir / "viewer" / "index.html") << "<!doctype html>";
+  std::ofstream(dir / "viewer" / "viewer.js") << "";
+  const CliResult view = RunDmc("view " + Quoted(dir / "missing.dmc") + " --viewer-dir " +
+                                Quoted(dir / "viewer") + " --gltf-weld");
+  EXPECT_EQ(view.exit_code, ExitCode(ErrorCode::kIoError));  // the stream is missing
+  EXPECT_THAT(view.err, HasSubstr("dmc view: warning: --gltf-weld ignored: no .glb/.gltf input\n"));
 }
 
 TEST(GltfOptionsCliTest, MixedMetricsInputsTakeTheOptionsWithoutAWarning) {
