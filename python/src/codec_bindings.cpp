@@ -1,4 +1,5 @@
 // dmc.encode, dmc.decode, dmc.info: the codec on NumPy arrays and bytes.
+#include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
 #include <cstdint>
@@ -84,6 +85,7 @@ py::dict ReportToDict(const EncodeReport& report, const std::string& operator_na
   out["anchors"] = report.anchors;
   out["segments"] = report.segments;
   out["residual_step"] = report.residual_step;
+  out["segment_operators"] = report.segment_operators;
   const py::object none = py::none();
   const DistortionReport& d = report.distortion;
   out["kg"] = report.measured ? py::object(py::float_(d.kg)) : none;
@@ -176,6 +178,9 @@ Args:
     reference_bits: geometric operators: reference frame step = diagonal * 2^-bits.
     weight_bits: DDL weight step 2^-bits.
     ddl_mu: DDL Tikhonov pull toward Tutte (relative).
+    ddl_fallback: with operator ddl, code a segment with kirchhoff or tutte instead when that has
+        the lower rate at equal STED (report["segment_operators"] names each segment's choice);
+        False = always the fitted DDL weights.
     uniform_weight_prediction: predict DDL weights by the uniform share instead of the degree
         reference.
     target_bpfv: > 0: search the residual step for this rate (bits per frame and vertex).
@@ -184,7 +189,8 @@ Args:
     name: sequence name stored in the stream.
     frame_rate: frames per second stored in the stream (0 = unknown).
     return_report: also return a dict like `dmc encode --json` prints (bytes, bpfv, breakdown,
-        rank, anchors, segments, residual_step, kg, sted, sted_s, sted_t, rmse_rel, max_error).
+        rank, anchors, segments, residual_step, segment_operators, kg, sted, sted_s, sted_t,
+        rmse_rel, max_error).
     measure: with return_report, decode the stream and measure KG/STED (else those are None).
 
 Returns:
@@ -237,9 +243,9 @@ void RegisterCodec(py::module_& module) {
       [](const py::handle& frames, const py::handle& faces, const std::string& operator_name,
          int rank, double rank_threshold, int basis_bits, int residual_bits, double residual_step,
          int anchors, double anchor_step_ratio, int segment_frames, int reference_bits,
-         int weight_bits, double ddl_mu, bool uniform_weight_prediction, double target_bpfv,
-         double target_sted, bool allow_reorder, const std::string& name, double frame_rate,
-         bool return_report, bool measure) {
+         int weight_bits, double ddl_mu, bool ddl_fallback, bool uniform_weight_prediction,
+         double target_bpfv, double target_sted, bool allow_reorder, const std::string& name,
+         double frame_rate, bool return_report, bool measure) {
         EncoderOptions options;
         options.operator_name = operator_name;
         options.rank = rank;
@@ -253,6 +259,7 @@ void RegisterCodec(py::module_& module) {
         options.reference_bits = reference_bits;
         options.weight_bits = weight_bits;
         options.ddl_regularization = ddl_mu;
+        options.ddl_fallback = ddl_fallback;
         options.weight_prediction_uniform = uniform_weight_prediction;
         options.target_bpfv = target_bpfv;
         options.target_sted = target_sted;
@@ -271,6 +278,7 @@ void RegisterCodec(py::module_& module) {
       py::arg("reference_bits") = defaults.reference_bits,
       py::arg("weight_bits") = defaults.weight_bits,
       py::arg("ddl_mu") = defaults.ddl_regularization,
+      py::arg("ddl_fallback") = defaults.ddl_fallback,
       py::arg("uniform_weight_prediction") = defaults.weight_prediction_uniform,
       py::arg("target_bpfv") = defaults.target_bpfv, py::arg("target_sted") = defaults.target_sted,
       py::arg("allow_reorder") = defaults.allow_reorder, py::arg("name") = "",

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@ struct EncodeArgs {
   EncoderOptions options;
   GltfReadFlags gltf;
   bool no_measure = false;
+  bool no_ddl_fallback = false;
   bool json = false;
   bool progress = false;
 };
@@ -87,9 +89,25 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
   return EncodeStreaming(source, args.output, options, &report, streaming);
 }
 
+// "ddl", or "ddl (segments: ddl 3, kirchhoff 1)" when some segment used another operator.
+std::string OperatorSummary(const std::string& requested,
+                            const std::vector<std::string>& segment_operators) {
+  std::map<std::string, int> counts;
+  for (const std::string& name : segment_operators) ++counts[name];
+  if (counts.empty() || (counts.size() == 1 && counts.begin()->first == requested)) {
+    return requested;
+  }
+  std::string summary;
+  for (const auto& [name, count] : counts) {
+    summary += fmt::format("{}{} {}", summary.empty() ? "" : ", ", name, count);
+  }
+  return requested + " (segments: " + summary + ")";
+}
+
 int RunEncode(const EncodeArgs& args) {
   EncoderOptions options = args.options;
   options.measure = !args.no_measure;
+  options.ddl_fallback = !args.no_ddl_fallback;
   EncodeReport report;
   const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);
@@ -110,6 +128,7 @@ int RunEncode(const EncodeArgs& args) {
                           {"rank", report.rank},
                           {"anchors", report.anchors},
                           {"segments", report.segments},
+                          {"segment_operators", report.segment_operators},
                           {"residual_step", report.residual_step}};
     if (report.measured) {
       out["kg"] = report.distortion.kg;
@@ -129,8 +148,8 @@ int RunEncode(const EncodeArgs& args) {
   fmt::print("{}: {} frames x {} vertices -> {} bytes, {:.4f} bpfv ({:.2f} s)\n", args.output,
              report.frames, report.vertices, report.bytes, report.bpfv, report.seconds);
   fmt::print("  operator {}, rank {}, {} anchors, {} segment(s), residual step {:.4g}\n",
-             options.operator_name, report.rank, report.anchors, report.segments,
-             report.residual_step);
+             OperatorSummary(options.operator_name, report.segment_operators), report.rank,
+             report.anchors, report.segments, report.residual_step);
   if (report.measured) {
     fmt::print("  KG {:.4f}  STED {:.5f} (spatial {:.5f}, temporal {:.5f})  RMSE/diag {:.3g}\n",
                report.distortion.kg, report.distortion.sted, report.distortion.sted_s,
@@ -149,7 +168,8 @@ int RunEncode(const EncodeArgs& args) {
 Command AddEncodeCommand(CLI::App& parent) {
   auto args = std::make_shared<EncodeArgs>();
   CLI::App* app = parent.add_subcommand("encode", "Compress a mesh sequence to a .dmc stream");
-  app->add_option("INPUT", args->input, "Sequence: frame directory, glob, mesh file or .pc2")
+  app->add_option("INPUT", args->input,
+                  "Sequence: frame directory, glob, mesh file, .pc2 or .glb/.gltf")
       ->required();
   app->add_option("-o,--output", args->output, "Output .dmc file")->required();
   app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
@@ -186,6 +206,9 @@ Command AddEncodeCommand(CLI::App& parent) {
                   "DDL weights this close to their prediction (weight units) are sent as "
                   "predicted: 0.5 = rounding, inf = predicted only, 0 = choose per segment")
       ->capture_default_str();
+  app->add_flag("--no-ddl-fallback", args->no_ddl_fallback,
+                "ddl: always code the fitted weights, never kirchhoff/tutte for a segment where "
+                "they have the lower rate at equal STED");
   app->add_flag("--uniform-weight-prediction", o.weight_prediction_uniform,
                 "DDL weights predicted by the thesis's uniform share, not the degree reference");
   app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");

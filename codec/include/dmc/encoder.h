@@ -32,7 +32,7 @@ struct EncoderOptions {
   // Automatic rank keeps component k while its eigenvalue λ_k > rank_threshold · V · Δ² (Δ the
   // residual step): a component is worth its coefficients while dropping it would cost more
   // squared error than quantising it does.
-  double rank_threshold = 10.0;
+  double rank_threshold = 50.0;
   int basis_bits = 10;             // basis quantisation bits (2..16)
   int residual_bits = 10;          // residual step = bbox diagonal * 2^-residual_bits
   double residual_step = 0.0;      // absolute step; overrides residual_bits when > 0
@@ -47,6 +47,10 @@ struct EncoderOptions {
   // gives the smaller payload at the same step: better rate–STED on short segments (crane), but
   // it can raise the largest vertex error several-fold, so it is not the default.
   double ddl_dead_zone = 0.5;
+  // The ddl operator may code a segment with kirchhoff or tutte instead (no side information)
+  // when that has the lower rate at equal STED; short segments rarely pay for fitted weights. The
+  // stream names each segment's operator. false = always the fitted DDL weights.
+  bool ddl_fallback = true;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
   bool weight_prediction_uniform = false;
@@ -73,6 +77,9 @@ struct EncodeReport {
   int residual_bits_equivalent = 0;
   double residual_step = 0.0;
   int segments = 0;
+  // The operator each segment was coded with, in segment order: the requested one, or with the
+  // ddl operator's fallback (EncoderOptions::ddl_fallback) kirchhoff or tutte.
+  std::vector<std::string> segment_operators;
 };
 
 StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,

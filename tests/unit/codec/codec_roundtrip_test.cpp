@@ -249,6 +249,59 @@ TEST(Codec, DdlWeightCoderRoundTripsAndKeepsRowsTranslationInvariant) {
   EXPECT_LT(row_sums.cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The encoder's comparison of codings (encoder.cpp, kStedSlopeBits): bits + 0.5 · V · F · ln STED.
+double RateDistortionCost(const EncodeReport& report) {
+  return 8.0 * static_cast<double>(report.bytes) +
+         0.5 * report.vertices * report.frames * std::log(report.distortion.sted);
+}
+
+// With one segment, the fallback's choice is made on exactly the stream's rate and STED: it keeps
+// the fitted DDL unless kirchhoff or tutte costs less, so it never costs more.
+TEST(Codec, DdlFallbackNeverCostsMoreThanTheFittedWeights) {
+  const MeshSequence original = WobblingSphere(16, 24, 12);
+  for (int bits : {8, 10, 12}) {
+    EncoderOptions options = Quick("ddl");
+    options.residual_bits = bits;
+    EncodeReport fallback, fitted;
+    ASSERT_TRUE(Encode(original, options, &fallback).ok());
+    options.ddl_fallback = false;
+    ASSERT_TRUE(Encode(original, options, &fitted).ok());
+    EXPECT_EQ(fitted.segment_operators, std::vector<std::string>{"ddl"});
+    ASSERT_EQ(fallback.segment_operators.size(), 1u);
+    const std::string& chosen = fallback.segment_operators[0];
+    EXPECT_TRUE(chosen == "ddl" || chosen == "kirchhoff" || chosen == "tutte") << chosen;
+    if (chosen == "ddl") {
+      EXPECT_EQ(fallback.bytes, fitted.bytes) << "bits " << bits;
+    }
+    EXPECT_LE(RateDistortionCost(fallback), RateDistortionCost(fitted) + 1e-6) << "bits " << bits;
+  }
+}
+
+// Two-frame segments cannot pay for fitted weights (about 10 bits per vertex each): the stream
+// names the operator of every segment, decodes, and the decoder's segment information agrees.
+TEST(Codec, DdlFallbackNamesEverySegmentsOperator) {
+  const MeshSequence original = WobblingSphere(12, 16, 8);
+  EncoderOptions options = Quick("ddl");
+  options.segment_frames = 2;
+  EncodeReport report;
+  auto bytes = Encode(original, options, &report);
+  ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
+  ASSERT_EQ(report.segment_operators.size(), 4u);
+  Decoder decoder;
+  ASSERT_TRUE(decoder.Open(*bytes).ok());
+  int fallbacks = 0;
+  for (int s = 0; s < 4; ++s) {
+    EXPECT_EQ(decoder.info().segments[s].operator_name, report.segment_operators[s]);
+    fallbacks += report.segment_operators[s] != "ddl";
+  }
+  EXPECT_GT(fallbacks, 0);
+  auto decoded = Decode(*bytes);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+  auto distortion = MeasureDistortion(original, *decoded);
+  ASSERT_TRUE(distortion.ok());
+  EXPECT_EQ(distortion->sted, report.distortion.sted);
+}
+
 TEST(Syntax, RoundDivRoundsHalvesUp) {
   EXPECT_EQ(format::RoundDiv(7, 2), 4);
   EXPECT_EQ(format::RoundDiv(-7, 2), -3);
