@@ -54,13 +54,21 @@ SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
   for (const auto& p : partial_sums) pca.mean += p;
   if (rows > 0) pca.mean /= static_cast<double>(rows);
 
+  // Each block's rank update goes through kCentredRows rows at a time: the centred double copy of
+  // a whole block (4096 × 3F × 8 bytes, 17 MB at 175 frames, one per thread) would be the
+  // encoder's largest buffer after the trajectories themselves.
+  constexpr Eigen::Index kCentredRows = 256;
   std::vector<Eigen::MatrixXd> partial(blocks);
   tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
     const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
-    const Eigen::MatrixXd centred =
-        trajectories.middleRows(start, count).cast<double>().rowwise() - pca.mean.transpose();
     partial[b] = Eigen::MatrixXd::Zero(cols, cols);
-    partial[b].selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
+    Eigen::MatrixXd centred;
+    for (Eigen::Index offset = 0; offset < count; offset += kCentredRows) {
+      const Eigen::Index n = std::min(kCentredRows, count - offset);
+      centred = trajectories.middleRows(start + offset, n).cast<double>().rowwise() -
+                pca.mean.transpose();
+      partial[b].selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
+    }
   });
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(cols, cols);
   for (const auto& p : partial) gram += p;
