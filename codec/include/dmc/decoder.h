@@ -99,13 +99,13 @@ using DecodeProgressCallback = std::function<void(int frames_done, int frames_to
 // <stem>.obj beside it: byte for byte the files WriteSequence(Decode(stream), output) writes, but
 // holding at most `segments_in_flight` decoded segments (12·V·F_s bytes each, plus each one's
 // factorisation while it decodes) instead of the whole sequence. Segments decode concurrently
-// when segments_in_flight > 1 and are written in order; the output is then bit-reproducible only
-// below 30k vertices: larger systems are ordered by METIS, whose random state is global to the
-// process, so concurrent factorisations can get different orderings (Decode's parallel segments
-// share the problem), and 1 is the reproducible choice. Both files are written under temporary
-// names and renamed into place at the end, the mesh first; on any failure (a damaged stream, a
-// full disk) neither is left behind and existing files are untouched. Errors: those of Decode,
-// kIoError for the files, kInvalidArgument for segments_in_flight < 1.
+// when segments_in_flight > 1 and are written in order, with the same output for any value:
+// normal matrices below 300k vertices are ordered by AMD (deterministic), larger ones by METIS,
+// whose analyses the solver runs one at a time (its random state is global to the process).
+// Both files are written under temporary names and renamed into place at the end, the mesh
+// first; on any failure (a damaged stream, a full disk) neither is left behind and existing files
+// are untouched. Errors: those of Decode, kIoError for the files, kInvalidArgument for
+// segments_in_flight < 1.
 Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
                    const DecodeProgressCallback& progress = {}, int segments_in_flight = 1);
 

@@ -238,6 +238,8 @@ Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination
       syntax::ReadAnchors(payload(4), info_.vertex_count, syntax).WithContext(where + "anchors"));
   DMC_RETURN_IF_ERROR(syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
                           .WithContext(where + "residuals"));
+  // Reconstruction (operator, factorisation) only once every payload has decoded: a stream
+  // rejected in its payloads costs no factorisation and no output (allocation_bound_test).
   Eigen::MatrixXd coefficients(info_.vertex_count, syntax.header.rank);
   if (syntax.header.rank > 0) {
     DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));

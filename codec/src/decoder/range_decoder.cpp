@@ -1,5 +1,6 @@
 #include "decoder/range_decoder.h"
 
+#include <algorithm>
 #include <string>
 
 namespace dmc {
@@ -10,6 +11,7 @@ Status RangeDecoder::Init(std::span<const uint8_t> data) {
   range_ = 0xFFFFFFFFu;
   code_ = 0;
   overrun_ = false;
+  error_ = Status::Ok();
   if (data.size() < 5) {
     return TruncatedStreamError("range-coded payload has " + std::to_string(data.size()) +
                                 " byte(s), at least 5 are needed");
@@ -17,22 +19,6 @@ Status RangeDecoder::Init(std::span<const uint8_t> data) {
   if (NextByte() != 0) return CorruptStreamError("range-coded payload does not start with 0");
   for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | NextByte();
   return Status::Ok();
-}
-
-int RangeDecoder::DecodeBit(AdaptiveBit& model) {
-  const uint32_t bound = (range_ >> 16) * model.p0();
-  int bit;
-  if (code_ < bound) {
-    range_ = bound;
-    bit = 0;
-  } else {
-    code_ -= bound;
-    range_ -= bound;
-    bit = 1;
-  }
-  model.Update(bit);
-  Normalize();
-  return bit;
 }
 
 int RangeDecoder::DecodeBypass() {
@@ -52,24 +38,20 @@ uint64_t RangeDecoder::DecodeBypassBits(int count) {
   return value;
 }
 
-Status RangeDecoder::DecodeMagnitude(IntegerContexts& contexts, uint64_t* m) {
-  for (int i = 0; i < IntegerContexts::kUnaryLength; ++i) {
-    if (!DecodeBit(contexts.greater[i])) {
-      *m = static_cast<uint64_t>(i);
-      return Status::Ok();
-    }
-  }
+bool RangeDecoder::TryDecodeEscape(IntegerContexts& contexts, uint64_t* m) {
   int n = 0;
   while (DecodeBit(contexts.escape[std::min(n, IntegerContexts::kEscapeContexts - 1)])) {
     if (++n > IntegerContexts::kMaxEscapeBits) {
-      return CorruptStreamError("exp-Golomb escape longer than " +
-                                std::to_string(IntegerContexts::kMaxEscapeBits) + " bits");
+      return Fail(CorruptStreamError("exp-Golomb escape longer than " +
+                                     std::to_string(IntegerContexts::kMaxEscapeBits) + " bits"));
     }
-    if (overrun_) return TruncatedStreamError("range-coded payload ended inside an escape code");
+    if (overrun_) {
+      return Fail(TruncatedStreamError("range-coded payload ended inside an escape code"));
+    }
   }
   const uint64_t e_plus_1 = (uint64_t{1} << n) | DecodeBypassBits(n);
   *m = e_plus_1 - 1 + IntegerContexts::kUnaryLength;
-  return Status::Ok();
+  return true;
 }
 
 Status RangeDecoder::DecodeUnsigned(IntegerContexts& contexts, uint64_t* value) {
@@ -78,21 +60,8 @@ Status RangeDecoder::DecodeUnsigned(IntegerContexts& contexts, uint64_t* value) 
     return Status::Ok();
   }
   uint64_t m;
-  DMC_RETURN_IF_ERROR(DecodeMagnitude(contexts, &m));
+  if (!TryDecodeMagnitude(contexts, &m)) return error_;
   *value = m + 1;
-  return Status::Ok();
-}
-
-Status RangeDecoder::DecodeSigned(IntegerContexts& contexts, int64_t* value) {
-  if (DecodeBit(contexts.zero)) {
-    *value = 0;
-    return Status::Ok();
-  }
-  const int negative = DecodeBit(contexts.sign);
-  uint64_t m;
-  DMC_RETURN_IF_ERROR(DecodeMagnitude(contexts, &m));
-  if (m >= (uint64_t{1} << 62)) return CorruptStreamError("coded integer exceeds 2^62");
-  *value = negative ? -static_cast<int64_t>(m + 1) : static_cast<int64_t>(m + 1);
   return Status::Ok();
 }
 

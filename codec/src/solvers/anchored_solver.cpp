@@ -1,5 +1,7 @@
 // Normal equations of a Laplacian with anchors: N = LᵀL + w²PᵀP, factored once, solved for all
 // columns of the differential coordinates at once.
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <string>
 
@@ -81,7 +83,12 @@ StatusOr<Eigen::MatrixXd> AnchoredLaplacianSolver::Solve(
                          std::to_string(anchor_values.cols()) + ", expected " +
                          std::to_string(anchors_.size()) + "×" + std::to_string(delta.cols()));
   }
-  Eigen::MatrixXd rhs = laplacian_transpose_ * delta;
+  // Lᵀ·Δ column by column, the columns in parallel: Eigen's sparse × dense product handles each
+  // column on its own in the same order, so this is bit for bit the one-shot product.
+  Eigen::MatrixXd rhs(v_count, delta.cols());
+  tbb::parallel_for(Eigen::Index{0}, delta.cols(), [&](Eigen::Index column) {
+    rhs.col(column).noalias() = laplacian_transpose_ * delta.col(column);
+  });
   const double weight_squared = anchor_weight_ * anchor_weight_;
   for (size_t k = 0; k < anchors_.size(); ++k) {
     rhs.row(anchors_[k]) += weight_squared * anchor_values.row(static_cast<Eigen::Index>(k));
