@@ -48,7 +48,7 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lowe
 // the kernel this machine gets), 8 (Haswell/Zen) or 2 (SkylakeX); the reference BLAS works column
 // by column. Measured on the 10k-vertex normal matrix with 60 columns (OpenBLAS 0.3.21): widths 4,
 // 8, 16 reproduce the one-shot solve bit for bit, widths 1, 2, 3 and 7 differ by up to 2e-15.
-// tests/unit/decoder/blocked_solve_test.cpp guards it. Fewer than 2 blocks: no task overhead.
+// tests/unit/decoder/fast_paths_test.cpp guards it. Fewer than 2 blocks: no task overhead.
 constexpr Eigen::Index kSolveBlockColumns = 16;
 
 // One CHOLMOD solve of N·X = B for the columns [first, first + count) of `rhs`, written into the

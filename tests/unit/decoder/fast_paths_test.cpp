@@ -1,0 +1,98 @@
+// The decoder's fast paths give bit for bit what the straightforward computations give (issue 7:
+// a faster decoder must output the same frames): the parallel, column-blocked sparse solve
+// against one CHOLMOD solve of all columns, and the frame synthesis against the plain
+// blockwise product + mean + conversion it replaced.
+#include <gtest/gtest.h>
+
+#include <Eigen/CholmodSupport>
+#include <cstdint>
+#include <vector>
+
+#include "decoder/segment_reconstruction.h"
+#include "dmc/operators.h"
+#include "dmc/wire_ids.h"
+#include "solvers/blas_threads.h"
+#include "test_support.h"
+
+namespace dmc {
+namespace {
+
+// Tutte normal matrix of a 40 × 40 grid with four anchors: 1600 unknowns, enough for CHOLMOD's
+// supernodes and BLAS kernels to be involved.
+SparseMatrixD GridNormalMatrix() {
+  const MeshSequence grid = testing::PlanarGrid(40);
+  const MeshTopology topology = BuildTopology(grid.triangles(), grid.vertex_count());
+  const auto tutte = RebuildOperator(OperatorId::kTutte, topology, nullptr, nullptr);
+  EXPECT_TRUE(tutte.ok());
+  return BuildNormalMatrix(tutte->matrix, std::vector<int32_t>{0, 39, 800, 1599});
+}
+
+TEST(DecoderFastPaths, BlockedParallelSolveEqualsOneCholmodSolve) {
+  const SparseMatrixD normal = GridNormalMatrix();
+  // 45 columns: two full 16-column blocks and a partial one, as a rank-45 segment has.
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::Random(normal.rows(), 45);
+  SolverOptions options;
+  options.backend = SolverBackend::kCholmod;
+  options.ordering = SolverOrdering::kAmd;
+  const auto solver = SparseSpdSolver::Factor(normal, options);
+  ASSERT_TRUE(solver.ok()) << solver.status().ToString();
+  const auto blocked = solver->Solve(rhs);
+  ASSERT_TRUE(blocked.ok()) << blocked.status().ToString();
+
+  // The reference: the same factorisation settings, one solve of every column.
+  ScopedSingleThreadedBlas single_threaded_blas;
+  Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lower> reference;
+  reference.cholmod().nmethods = 1;
+  reference.cholmod().method[0].ordering = CHOLMOD_AMD;
+  reference.cholmod().postorder = 1;
+  reference.compute(normal);
+  ASSERT_EQ(reference.info(), Eigen::Success);
+  const Eigen::MatrixXd expected = reference.solve(rhs);
+  ASSERT_EQ(blocked->rows(), expected.rows());
+  ASSERT_EQ(blocked->cols(), expected.cols());
+  EXPECT_TRUE((blocked->array() == expected.array()).all())
+      << "largest difference " << (*blocked - expected).cwiseAbs().maxCoeff();
+  // And it is a solution.
+  EXPECT_LE((normal.selfadjointView<Eigen::Lower>() * *blocked - rhs).norm(), 1e-9 * rhs.norm());
+}
+
+TEST(DecoderFastPaths, SynthesisEqualsBlockwiseProductPlusMean) {
+  // 1000 vertices: three full 256-row blocks and a partial one; 7 frames, rank 5.
+  constexpr int kVertices = 1000, kFrames = 7, kRank = 5;
+  const Eigen::MatrixXd coefficients = Eigen::MatrixXd::Random(kVertices, kRank);
+  const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(3 * kFrames, kRank);
+  const Eigen::VectorXd mean = 10.0 * Eigen::VectorXd::Random(3 * kFrames);
+  std::vector<float> frames(static_cast<size_t>(kVertices) * kFrames * 3);
+  ASSERT_TRUE(SynthesizeFrames(mean, basis, coefficients, kFrames, frames.data()).ok());
+
+  // What the decoder computed before: per 256-row block, the product, then the mean added in a
+  // second pass, then the conversion.
+  std::vector<float> expected(frames.size());
+  for (int begin = 0; begin < kVertices; begin += 256) {
+    const int rows = std::min(256, kVertices - begin);
+    Eigen::MatrixXd trajectories(rows, 3 * kFrames);
+    trajectories.noalias() = coefficients.middleRows(begin, rows) * basis.transpose();
+    trajectories.rowwise() += mean.transpose();
+    for (int f = 0; f < kFrames; ++f) {
+      for (int v = 0; v < rows; ++v) {
+        for (int axis = 0; axis < 3; ++axis) {
+          expected[(static_cast<size_t>(f) * kVertices + begin + v) * 3 + axis] =
+              static_cast<float>(trajectories(v, 3 * f + axis));
+        }
+      }
+    }
+  }
+  EXPECT_EQ(frames, expected);
+}
+
+TEST(DecoderFastPaths, SynthesisRejectsPositionsBeyondFloat) {
+  const Eigen::MatrixXd coefficients = Eigen::MatrixXd::Constant(300, 1, 1e300);
+  const Eigen::MatrixXd basis = Eigen::MatrixXd::Ones(3, 1);
+  const Eigen::VectorXd mean = Eigen::VectorXd::Zero(3);
+  std::vector<float> frames(300 * 3);
+  EXPECT_EQ(SynthesizeFrames(mean, basis, coefficients, 1, frames.data()).code(),
+            ErrorCode::kCorruptStream);
+}
+
+}  // namespace
+}  // namespace dmc
