@@ -1,27 +1,134 @@
 // Normal equations of a Laplacian with anchors: N = LᵀL + w²PᵀP, factored once, solved for all
 // columns of the differential coordinates at once.
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "dmc/operators.h"
 
 namespace dmc {
 
+namespace {
+
+// LᵀL + diag(d), given L and its transpose, computed exactly as Eigen's
+//   (SparseMatrixD(Lᵀ) * L) + diagonal(d)
+// computes it — the same sparsity pattern (every structurally touched entry kept, zeros too), the
+// same products summed in the same order, the same "+ 0" on entries only one operand holds — so
+// the factorisation, and the decoded frames, do not change by a bit (tests/unit/decoder
+// /fast_paths_test.cpp compares the two). What differs: one pass, the diagonal merged in, and the
+// columns computed in parallel (each column's entries depend on that column alone). Eigen's
+// product: for each column j of L, for each of its entries (k, y) in storage order, for each entry
+// (i, x) of column k of Lᵀ in storage order, value(i) = x·y on first touch and += x·y after; the
+// column's rows are then sorted (Eigen transposes twice).
+SparseMatrixD NormalMatrixWithDiagonal(const SparseMatrixD& laplacian,
+                                       const SparseMatrixD& transpose,
+                                       const Eigen::VectorXd& diagonal) {
+  const Eigen::Index n = laplacian.cols();
+  constexpr Eigen::Index kColumnsPerChunk = 512;
+  const Eigen::Index chunk_count = (n + kColumnsPerChunk - 1) / kColumnsPerChunk;
+  struct Chunk {
+    std::vector<int> rows;
+    std::vector<double> values;
+    std::vector<int> column_sizes;
+  };
+  std::vector<Chunk> chunks(static_cast<size_t>(chunk_count));
+  struct Scratch {
+    std::vector<uint8_t> touched;
+    std::vector<double> values;
+    std::vector<int> rows;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratches;
+  tbb::parallel_for(Eigen::Index{0}, chunk_count, [&](Eigen::Index c) {
+    Scratch& scratch = scratches.local();
+    scratch.touched.resize(static_cast<size_t>(n), 0);
+    scratch.values.resize(static_cast<size_t>(n));
+    Chunk& chunk = chunks[static_cast<size_t>(c)];
+    const Eigen::Index end = std::min(n, (c + 1) * kColumnsPerChunk);
+    for (Eigen::Index j = c * kColumnsPerChunk; j < end; ++j) {
+      scratch.rows.clear();
+      for (SparseMatrixD::InnerIterator right(laplacian, j); right; ++right) {
+        const double y = right.value();
+        for (SparseMatrixD::InnerIterator left(transpose, right.index()); left; ++left) {
+          const auto i = static_cast<size_t>(left.index());
+          if (!scratch.touched[i]) {
+            scratch.touched[i] = 1;
+            scratch.values[i] = left.value() * y;
+            scratch.rows.push_back(static_cast<int>(i));
+          } else {
+            scratch.values[i] += left.value() * y;
+          }
+        }
+      }
+      std::sort(scratch.rows.begin(), scratch.rows.end());
+      const size_t before = chunk.rows.size();
+      bool diagonal_done = false;
+      for (const int i : scratch.rows) {
+        if (!diagonal_done && i > j) {  // LᵀL lacks (j, j): the diagonal operand's entry alone
+          chunk.rows.push_back(static_cast<int>(j));
+          chunk.values.push_back(0.0 + diagonal[j]);
+          diagonal_done = true;
+        }
+        chunk.rows.push_back(i);
+        chunk.values.push_back(scratch.values[static_cast<size_t>(i)] +
+                               (i == j ? diagonal[j] : 0.0));
+        diagonal_done = diagonal_done || i == j;
+        scratch.touched[static_cast<size_t>(i)] = 0;
+      }
+      if (!diagonal_done) {
+        chunk.rows.push_back(static_cast<int>(j));
+        chunk.values.push_back(0.0 + diagonal[j]);
+      }
+      chunk.column_sizes.push_back(static_cast<int>(chunk.rows.size() - before));
+    }
+  });
+  SparseMatrixD normal(n, n);
+  Eigen::Index nonzeros = 0;
+  for (const Chunk& chunk : chunks) nonzeros += static_cast<Eigen::Index>(chunk.rows.size());
+  normal.resizeNonZeros(nonzeros);
+  int* outer = normal.outerIndexPtr();
+  outer[0] = 0;
+  Eigen::Index column = 0;
+  std::vector<Eigen::Index> chunk_offsets(static_cast<size_t>(chunk_count) + 1, 0);
+  for (Eigen::Index c = 0; c < chunk_count; ++c) {
+    const Chunk& chunk = chunks[static_cast<size_t>(c)];
+    for (const int size : chunk.column_sizes) {
+      outer[column + 1] = outer[column] + size;
+      ++column;
+    }
+    chunk_offsets[static_cast<size_t>(c) + 1] =
+        chunk_offsets[static_cast<size_t>(c)] + static_cast<Eigen::Index>(chunk.rows.size());
+  }
+  tbb::parallel_for(Eigen::Index{0}, chunk_count, [&](Eigen::Index c) {
+    const Chunk& chunk = chunks[static_cast<size_t>(c)];
+    const Eigen::Index offset = chunk_offsets[static_cast<size_t>(c)];
+    std::copy(chunk.rows.begin(), chunk.rows.end(), normal.innerIndexPtr() + offset);
+    std::copy(chunk.values.begin(), chunk.values.end(), normal.valuePtr() + offset);
+  });
+  return normal;
+}
+
+// Σ_a anchor_weight² e_a e_aᵀ as a vector, accumulated in anchor order.
+Eigen::VectorXd AnchorDiagonal(Eigen::Index size, std::span<const int32_t> anchors,
+                               double anchor_weight) {
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(size);
+  for (const int32_t a : anchors) diagonal[a] += anchor_weight * anchor_weight;
+  // Eigen's diag(d) · I, as the reference formula builds the operand: d·1 = d.
+  return diagonal;
+}
+
+}  // namespace
+
 SparseMatrixD BuildNormalMatrix(const SparseMatrixD& laplacian, std::span<const int32_t> anchors,
                                 double anchor_weight) {
-  SparseMatrixD normal = SparseMatrixD(laplacian.transpose()) * laplacian;
   // Anchor rows only touch the diagonal, which is always present in LᵀL for a mesh Laplacian
-  // (but may not be for an isolated vertex), so add them as a sparse diagonal.
-  Eigen::VectorXd anchor_diagonal = Eigen::VectorXd::Zero(laplacian.cols());
-  for (const int32_t a : anchors) anchor_diagonal[a] += anchor_weight * anchor_weight;
-  SparseMatrixD diagonal(laplacian.cols(), laplacian.cols());
-  diagonal.setIdentity();
-  diagonal = anchor_diagonal.asDiagonal() * diagonal;
-  normal += diagonal;
-  normal.makeCompressed();
-  return normal;
+  // (but may not be for an isolated vertex): NormalMatrixWithDiagonal inserts it where missing.
+  return NormalMatrixWithDiagonal(laplacian, SparseMatrixD(laplacian.transpose()),
+                                  AnchorDiagonal(laplacian.cols(), anchors, anchor_weight));
 }
 
 AnchoredLaplacianSolver::AnchoredLaplacianSolver(SparseMatrixD laplacian_transpose,
@@ -63,10 +170,14 @@ StatusOr<AnchoredLaplacianSolver> AnchoredLaplacianSolver::Create(const MeshTopo
                                    ") has no anchor: the normal matrix LᵀL is singular there");
     }
   }
+  SparseMatrixD transpose = laplacian.transpose();
   DMC_ASSIGN_OR_RETURN(
       SparseSpdSolver solver,
-      SparseSpdSolver::Factor(BuildNormalMatrix(laplacian, anchors, anchor_weight), options));
-  return AnchoredLaplacianSolver(laplacian.transpose(), std::move(anchors), anchor_weight,
+      SparseSpdSolver::Factor(
+          NormalMatrixWithDiagonal(laplacian, transpose,
+                                   AnchorDiagonal(laplacian.cols(), anchors, anchor_weight)),
+          options));
+  return AnchoredLaplacianSolver(std::move(transpose), std::move(anchors), anchor_weight,
                                  std::move(solver));
 }
 

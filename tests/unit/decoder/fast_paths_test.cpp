@@ -1,11 +1,13 @@
 // The decoder's fast paths give bit for bit what the straightforward computations give (issue 7:
-// a faster decoder must output the same frames): the parallel, column-blocked sparse solve
-// against one CHOLMOD solve of all columns, and the frame synthesis against the plain
-// blockwise product + mean + conversion it replaced.
+// a faster decoder must output the same frames): the normal matrix against Eigen's LᵀL + diagonal
+// (pattern and every value), the parallel, column-blocked sparse solve against one CHOLMOD solve
+// of all columns, and the frame synthesis against the plain blockwise product + mean +
+// conversion it replaced.
 #include <gtest/gtest.h>
 
 #include <Eigen/CholmodSupport>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "decoder/segment_reconstruction.h"
@@ -25,6 +27,66 @@ SparseMatrixD GridNormalMatrix() {
   const auto tutte = RebuildOperator(OperatorId::kTutte, topology, nullptr, nullptr);
   EXPECT_TRUE(tutte.ok());
   return BuildNormalMatrix(tutte->matrix, std::vector<int32_t>{0, 39, 800, 1599});
+}
+
+// The normal matrix as BuildNormalMatrix computed it before it was rewritten as one parallel pass.
+SparseMatrixD ReferenceNormalMatrix(const SparseMatrixD& laplacian,
+                                    std::span<const int32_t> anchors, double anchor_weight) {
+  SparseMatrixD normal = SparseMatrixD(laplacian.transpose()) * laplacian;
+  Eigen::VectorXd anchor_diagonal = Eigen::VectorXd::Zero(laplacian.cols());
+  for (const int32_t a : anchors) anchor_diagonal[a] += anchor_weight * anchor_weight;
+  SparseMatrixD diagonal(laplacian.cols(), laplacian.cols());
+  diagonal.setIdentity();
+  diagonal = anchor_diagonal.asDiagonal() * diagonal;
+  normal += diagonal;
+  normal.makeCompressed();
+  return normal;
+}
+
+// Same pattern, and the same bits in every value (memcmp: +0 and -0 differ).
+void ExpectIdenticalSparse(const SparseMatrixD& actual, const SparseMatrixD& expected) {
+  ASSERT_TRUE(actual.isCompressed());
+  ASSERT_EQ(actual.rows(), expected.rows());
+  ASSERT_EQ(actual.cols(), expected.cols());
+  ASSERT_EQ(actual.nonZeros(), expected.nonZeros());
+  const auto outer = static_cast<size_t>(actual.cols()) + 1;
+  const auto count = static_cast<size_t>(actual.nonZeros());
+  EXPECT_EQ(std::memcmp(actual.outerIndexPtr(), expected.outerIndexPtr(), outer * sizeof(int)), 0);
+  EXPECT_EQ(std::memcmp(actual.innerIndexPtr(), expected.innerIndexPtr(), count * sizeof(int)), 0);
+  EXPECT_EQ(std::memcmp(actual.valuePtr(), expected.valuePtr(), count * sizeof(double)), 0);
+}
+
+TEST(DecoderFastPaths, NormalMatrixEqualsEigenProductPlusDiagonal) {
+  // 30 × 30 grid plus one isolated vertex (no triangle: an empty column of L, so LᵀL lacks its
+  // diagonal entry), 901 vertices: two 512-column chunks.
+  const MeshSequence grid = testing::PlanarGrid(30);
+  const int v_count = grid.vertex_count() + 1;
+  const MeshTopology topology = BuildTopology(grid.triangles(), v_count);
+  std::vector<SparseMatrixD> laplacians;
+  for (const OperatorId id : {OperatorId::kTutte, OperatorId::kKirchhoff}) {
+    const auto op = RebuildOperator(id, topology, nullptr, nullptr);
+    ASSERT_TRUE(op.ok()) << op.status().ToString();
+    laplacians.push_back(op->matrix);
+  }
+  // DDL-style weights: varied signs and magnitudes, and exact zeros (products of ±0).
+  OperatorWeights weights;
+  weights.layout = WeightLayout::kPerEdge;
+  for (int e = 0; e < topology.edge_count(); ++e) {
+    weights.values.push_back(e % 7 == 0 ? 0.0 : (e % 3 == 0 ? -0.3 : 0.1) * (1 + e % 5));
+  }
+  const auto ddl = RebuildOperator(OperatorId::kDdl, topology, nullptr, &weights);
+  ASSERT_TRUE(ddl.ok()) << ddl.status().ToString();
+  laplacians.push_back(ddl->matrix);
+  // Anchors: a repeated one, the isolated vertex, and one in each corner.
+  const std::vector<int32_t> anchors = {0, 29, 29, 870, 899, 900};
+  for (const SparseMatrixD& laplacian : laplacians) {
+    for (const double weight : {1.0, 0.37}) {
+      ExpectIdenticalSparse(BuildNormalMatrix(laplacian, anchors, weight),
+                            ReferenceNormalMatrix(laplacian, anchors, weight));
+    }
+    ExpectIdenticalSparse(BuildNormalMatrix(laplacian, {}, 1.0),
+                          ReferenceNormalMatrix(laplacian, {}, 1.0));
+  }
 }
 
 TEST(DecoderFastPaths, BlockedParallelSolveEqualsOneCholmodSolve) {
