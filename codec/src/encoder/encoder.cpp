@@ -213,7 +213,7 @@ StatusOr<DdlChoice> ChooseDdlWeights(const std::vector<double>& fitted,
 
 // One way of coding a segment's operator and residuals.
 struct SegmentCoding {
-  SegmentSyntax syntax;  // header (operator, residual step), weights and dequantised deltas
+  format::SegmentHeader header;  // its operator and residual step
   std::vector<uint8_t> operator_payload;
   std::vector<uint8_t> residual_payload;
 };
@@ -231,6 +231,27 @@ constexpr double kStedSlopeBits = 0.5;
 // rest of the encode; the candidates are ranked the same way on the subsample (the temporal part
 // of STED then compares frames k apart, for every candidate alike).
 constexpr int kMeasuredFrames = 32;
+
+// The fallback's measurement frames of a segment, taken before its trajectories are released.
+struct MeasuredFrames {
+  std::vector<int> frames;  // indices within the segment
+  MeshSequence original;    // those frames of the input, in codec vertex order
+};
+
+MeasuredFrames SampleMeasuredFrames(const SegmentTrajectories& trajectories,
+                                    const Triangles& triangles) {
+  const int frame_count = static_cast<int>(trajectories.cols() / 3);
+  MeasuredFrames measured;
+  const int stride = (frame_count + kMeasuredFrames - 1) / kMeasuredFrames;
+  for (int f = 0; f < frame_count; f += stride) measured.frames.push_back(f);
+  measured.original = MeshSequence(static_cast<int>(trajectories.rows()), triangles,
+                                   static_cast<int>(measured.frames.size()));
+  for (size_t k = 0; k < measured.frames.size(); ++k) {
+    measured.original.frame(static_cast<int>(k)) =
+        trajectories.middleCols(3 * measured.frames[k], 3);
+  }
+  return measured;
+}
 
 // The measured frames' rows of a 3F-row trajectory quantity (the mean, the basis).
 template <typename Matrix>
@@ -263,69 +284,50 @@ StatusOr<double> ReconstructedSted(const DistortionMeter& meter, const MeshTopol
 // degree times larger: its residual step is scaled by the mean degree to reach a comparable
 // distortion. The anchors, mean and basis are shared by every candidate.
 template <typename WriteResidualsFn>
-SegmentCoding ChooseSegmentOperator(const SegmentTrajectories& trajectories,
-                                    const Triangles& triangles, const MeshTopology& topology,
+SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTopology& topology,
                                     const SegmentSyntax& ddl_syntax,
                                     std::vector<uint8_t> ddl_operator_payload,
                                     std::vector<uint8_t> ddl_residual_payload,
                                     WriteResidualsFn write_residuals) {
-  std::vector<SegmentCoding> candidates;
-  candidates.push_back(
-      {ddl_syntax, std::move(ddl_operator_payload), std::move(ddl_residual_payload)});
-  const int v_count = static_cast<int>(trajectories.rows());
-  const int frame_count = static_cast<int>(trajectories.cols() / 3);
-  std::vector<int> measured_frames;
-  const int stride = (frame_count + kMeasuredFrames - 1) / kMeasuredFrames;
-  for (int f = 0; f < frame_count; f += stride) measured_frames.push_back(f);
-  const int measured_count = static_cast<int>(measured_frames.size());
-  MeshSequence original(v_count, triangles, measured_count);
-  for (int k = 0; k < measured_count; ++k) {
-    original.frame(k) = trajectories.middleCols(3 * measured_frames[k], 3);
-  }
-  const Eigen::VectorXd measured_mean = SampledFrameRows(ddl_syntax.mean, measured_frames);
-  const Eigen::MatrixXd measured_basis = SampledFrameRows(ddl_syntax.basis, measured_frames);
-  StatusOr<DistortionMeter> meter = DistortionMeter::Create(original);
+  SegmentCoding best{ddl_syntax.header, std::move(ddl_operator_payload),
+                     std::move(ddl_residual_payload)};
+  const int v_count = measured.original.vertex_count();
+  const int frame_count = static_cast<int>(ddl_syntax.header.frame_count);
+  const Eigen::VectorXd measured_mean = SampledFrameRows(ddl_syntax.mean, measured.frames);
+  const Eigen::MatrixXd measured_basis = SampledFrameRows(ddl_syntax.basis, measured.frames);
+  StatusOr<DistortionMeter> meter = DistortionMeter::Create(measured.original);
   // No STED for this segment (e.g. an edge of length zero in every frame): keep the DDL.
-  if (!meter.ok()) return std::move(candidates.front());
+  if (!meter.ok()) return best;
+  MeshSequence decoded(v_count, measured.original.triangles(), measured.original.frame_count());
+  auto cost = [&](const SegmentSyntax& syntax, size_t payload_bytes) {
+    const StatusOr<double> sted =
+        ReconstructedSted(*meter, topology, syntax, measured_mean, measured_basis, decoded);
+    if (!sted.ok() || !std::isfinite(*sted)) return std::numeric_limits<double>::quiet_NaN();
+    return 8.0 * static_cast<double>(payload_bytes) +
+           kStedSlopeBits * v_count * frame_count * std::log(std::max(*sted, 1e-300));
+  };
+  double best_cost = cost(ddl_syntax, best.operator_payload.size() + best.residual_payload.size());
+  if (!std::isfinite(best_cost)) return best;
 
+  // One candidate at a time (each factorisation, solve and synthesis parallelises inside), so
+  // that only one candidate's deltas and factor exist at once. A candidate that cannot be coded
+  // or measured is not chosen.
   const double mean_degree = 2.0 * static_cast<double>(topology.edges.size()) / v_count;
   for (const auto& [id, step_scale] :
        {std::pair{OperatorId::kKirchhoff, mean_degree}, std::pair{OperatorId::kTutte, 1.0}}) {
-    SegmentCoding candidate;
-    candidate.syntax = ddl_syntax;
-    candidate.syntax.header.operator_id = static_cast<uint8_t>(id);
-    candidate.syntax.header.residual_step *= step_scale;
-    candidate.syntax.edge_weights.clear();
-    StatusOr<std::vector<uint8_t>> residuals = write_residuals(candidate.syntax);
+    SegmentSyntax candidate = ddl_syntax;
+    candidate.header.operator_id = static_cast<uint8_t>(id);
+    candidate.header.residual_step *= step_scale;
+    candidate.edge_weights.clear();
+    StatusOr<std::vector<uint8_t>> residuals = write_residuals(candidate);
     if (!residuals.ok()) continue;  // e.g. a residual beyond the format's range at this step
-    candidate.residual_payload = std::move(residuals).value();
-    candidates.push_back(std::move(candidate));
-  }
-
-  // Each candidate decoded and measured (in parallel: a single-segment sequence has nothing
-  // else to run on the other cores). A candidate that cannot be measured is not chosen.
-  std::vector<double> sted(candidates.size(), std::numeric_limits<double>::quiet_NaN());
-  tbb::parallel_for(size_t{0}, candidates.size(), [&](size_t c) {
-    MeshSequence decoded(v_count, triangles, measured_count);
-    const StatusOr<double> measured = ReconstructedSted(*meter, topology, candidates[c].syntax,
-                                                        measured_mean, measured_basis, decoded);
-    if (measured.ok()) sted[c] = *measured;
-  });
-  if (!std::isfinite(sted[0])) return std::move(candidates.front());
-  size_t best = 0;
-  double best_cost = std::numeric_limits<double>::infinity();
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    if (!std::isfinite(sted[c])) continue;
-    const double bits = 8.0 * static_cast<double>(candidates[c].operator_payload.size() +
-                                                  candidates[c].residual_payload.size());
-    const double cost =
-        bits + kStedSlopeBits * v_count * frame_count * std::log(std::max(sted[c], 1e-300));
-    if (cost < best_cost) {
-      best_cost = cost;
-      best = c;
+    const double candidate_cost = cost(candidate, residuals->size());
+    if (candidate_cost < best_cost) {  // false for NaN
+      best_cost = candidate_cost;
+      best = {candidate.header, {}, std::move(residuals).value()};
     }
   }
-  return std::move(candidates[best]);
+  return best;
 }
 
 struct SegmentResult {
@@ -336,8 +338,9 @@ struct SegmentResult {
 };
 
 // Encodes one segment (its trajectories, in the codec's vertex order) into `out` in closed loop:
-// every quantity after a quantiser uses the decoder's reconstruction of it.
-StatusOr<SegmentResult> EncodeSegment(const SegmentTrajectories& trajectories,
+// every quantity after a quantiser uses the decoder's reconstruction of it. The trajectories are
+// released once projected: the operator fit and the fallback's trials run without them.
+StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
                                       const MeshTopology& topology, const Triangles& triangles,
                                       const std::vector<int32_t>& vertex_order,
                                       const EncoderOptions& options, OperatorId operator_id,
@@ -390,6 +393,11 @@ StatusOr<SegmentResult> EncodeSegment(const SegmentTrajectories& trajectories,
     const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
     coefficients = gram.ldlt().solve(projected.transpose()).transpose();
   }
+  std::optional<MeasuredFrames> measured;
+  if (rank > 0 && operator_id == OperatorId::kDdl && options.ddl_fallback) {
+    measured = SampleMeasuredFrames(trajectories, triangles);
+  }
+  trajectories = SegmentTrajectories();
 
   // Anchors before the operator: the DDL trials below reconstruct with them.
   const std::vector<uint8_t> anchor_payload =
@@ -416,11 +424,11 @@ StatusOr<SegmentResult> EncodeSegment(const SegmentTrajectories& trajectories,
     syntax.edge_weights = std::move(choice.edge_weights);
     syntax.delta = std::move(choice.delta);
     if (options.ddl_fallback) {
-      SegmentCoding chosen = ChooseSegmentOperator(trajectories, triangles, topology, syntax,
-                                                   std::move(operator_payload),
-                                                   std::move(residual_payload), write_residuals);
-      h.operator_id = chosen.syntax.header.operator_id;
-      h.residual_step = chosen.syntax.header.residual_step;
+      SegmentCoding chosen =
+          ChooseSegmentOperator(*measured, topology, syntax, std::move(operator_payload),
+                                std::move(residual_payload), write_residuals);
+      h.operator_id = chosen.header.operator_id;
+      h.residual_step = chosen.header.residual_step;
       operator_payload = std::move(chosen.operator_payload);
       residual_payload = std::move(chosen.residual_payload);
     }
@@ -588,11 +596,11 @@ StatusOr<std::vector<uint8_t>> EncodeOnce(const MeshSequence& sequence,
   std::vector<ByteWriter> segment_bytes(segments);
   std::vector<StatusOr<SegmentResult>> segment_results(segments, InternalError("not encoded"));
   tbb::parallel_for(0, segments, [&](int s) {
-    const SegmentTrajectories trajectories = GatherTrajectories(
+    SegmentTrajectories trajectories = GatherTrajectories(
         sequence, plan.segment_first[s], plan.segment_frames(s), connectivity.vertex_order);
-    segment_results[s] = EncodeSegment(trajectories, topology, connectivity.triangles, vertex_order,
-                                       options, plan.operator_id, diagonal, plan.residual_step,
-                                       plan.segment_first[s], segment_bytes[s]);
+    segment_results[s] = EncodeSegment(std::move(trajectories), topology, connectivity.triangles,
+                                       vertex_order, options, plan.operator_id, diagonal,
+                                       plan.residual_step, plan.segment_first[s], segment_bytes[s]);
   });
   for (int s = 0; s < segments; ++s) {
     DMC_ASSIGN_OR_RETURN(SegmentResult segment, std::move(segment_results[s]));
@@ -900,10 +908,10 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                 if (!work->read.ok()) {
                   work->result = work->read;
                 } else if (!failed.load()) {
-                  work->result = EncodeSegment(work->trajectories, topology, connectivity.triangles,
-                                               vertex_order, options, plan.operator_id, diagonal,
-                                               plan.residual_step, plan.segment_first[work->index],
-                                               work->bytes);
+                  work->result = EncodeSegment(std::move(work->trajectories), topology,
+                                               connectivity.triangles, vertex_order, options,
+                                               plan.operator_id, diagonal, plan.residual_step,
+                                               plan.segment_first[work->index], work->bytes);
                 }
                 work->trajectories = SegmentTrajectories();  // free before the write stage
                 return work;

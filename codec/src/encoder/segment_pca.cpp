@@ -16,6 +16,11 @@ constexpr Eigen::Index kRowBlock = 4096;
 
 Eigen::Index RowBlocks(Eigen::Index rows) { return (rows + kRowBlock - 1) / kRowBlock; }
 
+// Within a block, the centred double copy is made kCentredRows rows at a time: a whole block's
+// (4096 × 3F × 8 bytes, 17 MB at 175 frames, one per thread) would be the encoder's largest
+// buffer after the trajectories themselves.
+constexpr Eigen::Index kCentredRows = 256;
+
 }  // namespace
 
 void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
@@ -54,10 +59,6 @@ SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
   for (const auto& p : partial_sums) pca.mean += p;
   if (rows > 0) pca.mean /= static_cast<double>(rows);
 
-  // Each block's rank update goes through kCentredRows rows at a time: the centred double copy of
-  // a whole block (4096 × 3F × 8 bytes, 17 MB at 175 frames, one per thread) would be the
-  // encoder's largest buffer after the trajectories themselves.
-  constexpr Eigen::Index kCentredRows = 256;
   std::vector<Eigen::MatrixXd> partial(blocks);
   tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
     const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
@@ -83,10 +84,16 @@ Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
                                     const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis) {
   const Eigen::Index rows = trajectories.rows();
   Eigen::MatrixXd projected(rows, basis.cols());
+  // kCentredRows rows at a time, for the reason given in ComputeSegmentPca.
   tbb::parallel_for(Eigen::Index{0}, RowBlocks(rows), [&](Eigen::Index b) {
     const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
-    projected.middleRows(start, count).noalias() =
-        (trajectories.middleRows(start, count).cast<double>().rowwise() - mean.transpose()) * basis;
+    Eigen::MatrixXd centred;
+    for (Eigen::Index offset = 0; offset < count; offset += kCentredRows) {
+      const Eigen::Index n = std::min(kCentredRows, count - offset);
+      centred =
+          trajectories.middleRows(start + offset, n).cast<double>().rowwise() - mean.transpose();
+      projected.middleRows(start + offset, n).noalias() = centred * basis;
+    }
   });
   return projected;
 }
