@@ -940,6 +940,7 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
     DMC_RETURN_IF_ERROR(decoder.Open(stream).WithContext("decoding the encoded stream"));
     const std::vector<int32_t>& relabel = connectivity.vertex_order;
     std::vector<float> decoded, restored, original;
+    const int frames_per_read = FramesPerRead(v_count, plan.frames);
     for (int s = 0; s < plan.segments(); ++s) {
       const int first = plan.segment_first[s], count = plan.segment_frames(s);
       DMC_RETURN_IF_ERROR(decoder.DecodeSegmentInto(s, [&](int) -> StatusOr<float*> {
@@ -958,11 +959,18 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
         }
         decoded.swap(restored);
       }
-      const auto [window_first, window_end] = meter->OriginalWindow(first, count);
-      original.resize(per_frame * static_cast<size_t>(window_end - window_first));
-      DMC_RETURN_IF_ERROR(
-          source.ReadFrames(window_first, window_end - window_first, original.data()));
-      DMC_RETURN_IF_ERROR(meter->AddSegment(first, count, original.data(), decoded.data()));
+      // The meter takes any consecutive frame ranges: the segment goes in read-sized blocks, so
+      // the original frames in memory are one block and its speed window, not a whole segment.
+      for (int block = first; block < first + count; block += frames_per_read) {
+        const int block_count = std::min(frames_per_read, first + count - block);
+        const auto [window_first, window_end] = meter->OriginalWindow(block, block_count);
+        original.resize(per_frame * static_cast<size_t>(window_end - window_first));
+        DMC_RETURN_IF_ERROR(
+            source.ReadFrames(window_first, window_end - window_first, original.data()));
+        DMC_RETURN_IF_ERROR(
+            meter->AddSegment(block, block_count, original.data(),
+                              decoded.data() + per_frame * static_cast<size_t>(block - first)));
+      }
       progress(EncodeStage::kMeasure, first + count);
     }
     DMC_ASSIGN_OR_RETURN(out.distortion, meter->Report());
