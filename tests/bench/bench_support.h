@@ -9,7 +9,9 @@
 #include <draco/core/encoder_buffer.h>
 #include <draco/mesh/mesh.h>
 #include <malloc.h>
+#include <sys/resource.h>
 
+#include <chrono>
 #include <cstdint>
 #include <fstream>
 #include <map>
@@ -84,6 +86,29 @@ class PeakMemory {
   }
   bool reset_ = false;
   double base_ = 0.0;
+};
+
+// Wall time and CPU time of the whole process (every thread, user + system) since construction:
+// Google Benchmark's CPU column counts the main thread only, and the codec runs TBB workers.
+class ProcessClock {
+ public:
+  ProcessClock() : wall_start_(std::chrono::steady_clock::now()), cpu_start_(ProcessCpu()) {}
+  double WallSeconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+  }
+  double CpuSeconds() const { return ProcessCpu() - cpu_start_; }
+
+ private:
+  static double ProcessCpu() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    auto seconds = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+  }
+  std::chrono::steady_clock::time_point wall_start_;
+  double cpu_start_;
 };
 
 // Vertex-frames processed per second (the codec's natural throughput unit), plus the size.
