@@ -38,9 +38,8 @@ bool IsPc2(const std::filesystem::path& path) {
 }
 
 // Encodes with EncodeStreaming: a PC2 cache is read segment by segment (memory bounded by one
-// segment); other inputs are read whole first and encoded several segments at a time. The bytes
-// are Encode()'s either way. Rate control needs whole-sequence encodes, so it goes through
-// EncodeToFile on the loaded sequence instead.
+// segment, also under rate control, which then reads the cache once per trial); other inputs are
+// read whole first and encoded several segments at a time. The bytes are Encode()'s either way.
 Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, EncodeReport& report) {
   std::optional<Progress> progress;
   std::string progress_label;
@@ -53,8 +52,7 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
     progress->Update(done);
   };
   WarnIfGltfOptionsUnused("encode", args.gltf, {args.input});
-  const bool rate_control = options.target_bpfv > 0.0 || options.target_sted > 0.0;
-  if (IsPc2(args.input) && !rate_control) {
+  if (IsPc2(args.input)) {
     std::vector<std::string> warnings;
     DMC_ASSIGN_OR_RETURN(std::unique_ptr<FrameSource> source,
                          OpenPc2FrameSource(args.input, args.connectivity, &warnings));
@@ -73,12 +71,6 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
   DMC_ASSIGN_OR_RETURN(const MeshSequence sequence,
                        ReadSequence(args.input, read_options, &read_report));
   for (const auto& warning : read_report.warnings) ReportWarning("encode", warning);
-  if (rate_control) {
-    show("encoding (rate search)", 0, 1);
-    DMC_RETURN_IF_ERROR(EncodeToFile(sequence, args.output, options, &report));
-    show("encoding (rate search)", 1, 1);
-    return Status::Ok();
-  }
   SequenceFrameSource source(sequence);
   StreamingEncodeOptions streaming;
   streaming.segments_in_flight =

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -644,6 +645,48 @@ Status CheckFormatLimits(int vertex_count, int frame_count) {
   return Status::Ok();
 }
 
+bool HasRateTarget(const EncoderOptions& options) {
+  return options.target_bpfv > 0.0 || options.target_sted > 0.0;
+}
+
+bool MeetsRateTarget(const EncoderOptions& options, const EncodeReport& report) {
+  return options.target_bpfv > 0.0 ? report.bpfv <= options.target_bpfv
+                                   : report.distortion.sted <= options.target_sted;
+}
+
+// Rate control: bisection on the residual step, 2^-1 … 2^-24 of the diagonal, in 12 halvings of
+// the interval in bits (rank follows the step automatically). Rate falls and distortion rises
+// monotonically with the step. `trial` encodes with the options it is given (the targets cleared,
+// residual_step set) and says whether the result meets the target; the search keeps the finest
+// step that meets a rate target, the coarsest that meets a distortion target, and returns it.
+// The in-memory and the streaming encoder share it, so they choose the same step.
+Status SearchResidualStep(const EncoderOptions& options, double diagonal,
+                          const std::function<StatusOr<bool>(const EncoderOptions&)>& trial) {
+  const bool prefer_finer = options.target_bpfv > 0.0;
+  EncoderOptions trial_options = options;
+  trial_options.target_bpfv = trial_options.target_sted = 0.0;
+  double low = 1.0, high = 24.0;  // residual bits
+  bool found = false;
+  for (int iteration = 0; iteration < 12; ++iteration) {
+    const double bits = 0.5 * (low + high);
+    trial_options.residual_step = diagonal * std::pow(2.0, -bits);
+    DMC_ASSIGN_OR_RETURN(const bool meets, trial(trial_options));
+    found = found || meets;
+    // Meeting a rate target: finer steps are better while they fit; meeting a distortion
+    // target: coarser steps are better while they meet it.
+    if (meets == prefer_finer) {
+      low = bits;
+    } else {
+      high = bits;
+    }
+  }
+  if (!found) {
+    return InvalidArgumentError(prefer_finer ? "no parameters reach the target rate"
+                                             : "no parameters reach the target distortion");
+  }
+  return Status::Ok();
+}
+
 // ---- Streaming ---------------------------------------------------------------------------------
 
 // Frames per read of the scan, segment and measure passes: blocks of about 4 MiB (at least one
@@ -654,6 +697,33 @@ int FramesPerRead(int vertex_count, int frame_count) {
   const size_t frame_bytes = static_cast<size_t>(vertex_count) * 3 * sizeof(float);
   return static_cast<int>(
       std::clamp<size_t>(kReadBytes / frame_bytes, 1, static_cast<size_t>(frame_count)));
+}
+
+// Reads every frame of the source once, in blocks: checks finiteness, returns the bounding box,
+// and gives each frame to `meter` (when not null) in order. `progress(frames done)` per block.
+StatusOr<BoundingBox> ScanSource(FrameSource& source, StreamingDistortion* meter,
+                                 const std::function<void(int)>& progress) {
+  const int v_count = source.vertex_count(), frames = source.frame_count();
+  const size_t per_frame = static_cast<size_t>(v_count) * 3;
+  BoundingBox box;
+  box.min.setConstant(std::numeric_limits<double>::infinity());
+  box.max.setConstant(-std::numeric_limits<double>::infinity());
+  const int frames_per_read = FramesPerRead(v_count, frames);
+  std::vector<float> block(per_frame * static_cast<size_t>(frames_per_read));
+  for (int done = 0; done < frames; done += frames_per_read) {
+    const int count = std::min(frames_per_read, frames - done);
+    DMC_RETURN_IF_ERROR(source.ReadFrames(done, count, block.data()));
+    DMC_RETURN_IF_ERROR(CheckFiniteFrames(block.data(), done, count, v_count));
+    for (int f = 0; f < count; ++f) {
+      const float* data = block.data() + per_frame * static_cast<size_t>(f);
+      const Eigen::Map<const FramePositions> positions(data, v_count, 3);
+      box.min = box.min.cwiseMin(positions.colwise().minCoeff().cast<double>().transpose());
+      box.max = box.max.cwiseMax(positions.colwise().maxCoeff().cast<double>().transpose());
+      if (meter) meter->AddOriginalFrame(data);
+    }
+    progress(done + count);
+  }
+  return box;
 }
 
 // One segment travelling through the streaming encoder's pipeline.
@@ -703,56 +773,31 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
   EncodeReport& out = report ? *report : local;
   out = EncodeReport();
 
-  EncoderOptions chosen = options;
   std::vector<uint8_t> bytes;
-  if (options.target_bpfv > 0.0 || options.target_sted > 0.0) {
-    // Rate control: bisection on the residual step (rank follows it automatically). Rate falls
-    // and distortion rises monotonically with the step.
-    double low = 1.0, high = 24.0;  // residual bits
-    bool found = false;
+  if (HasRateTarget(options)) {
     std::vector<uint8_t> best;
     EncodeReport best_report;
-    for (int iteration = 0; iteration < 12; ++iteration) {
-      const double bits = 0.5 * (low + high);
-      chosen.residual_step = std::ldexp(diagonal, 0) * std::pow(2.0, -bits);
-      EncodeReport trial;
-      DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> candidate,
-                           EncodeOnce(sequence, connectivity, topology, chosen, diagonal, &trial));
-      bool meets;
-      if (options.target_bpfv > 0.0) {
-        meets = trial.bpfv <= options.target_bpfv;
-      } else {
-        DMC_RETURN_IF_ERROR(Measure(sequence, candidate, connectivity.vertex_order, &trial));
-        meets = trial.distortion.sted <= options.target_sted;
-      }
-      // Meeting a rate target: finer steps are better while they fit; meeting a distortion
-      // target: coarser steps are better while they meet it.
-      const bool prefer_finer = options.target_bpfv > 0.0;
-      if (meets) {
-        found = true;
-        best = std::move(candidate);
-        best_report = trial;
-        if (prefer_finer) {
-          low = bits;
-        } else {
-          high = bits;
-        }
-      } else if (prefer_finer) {
-        high = bits;
-      } else {
-        low = bits;
-      }
-    }
-    if (!found) {
-      return InvalidArgumentError(options.target_bpfv > 0.0
-                                      ? "no parameters reach the target rate"
-                                      : "no parameters reach the target distortion");
-    }
+    DMC_RETURN_IF_ERROR(SearchResidualStep(
+        options, diagonal, [&](const EncoderOptions& trial_options) -> StatusOr<bool> {
+          EncodeReport trial;
+          DMC_ASSIGN_OR_RETURN(
+              std::vector<uint8_t> candidate,
+              EncodeOnce(sequence, connectivity, topology, trial_options, diagonal, &trial));
+          if (options.target_sted > 0.0) {
+            DMC_RETURN_IF_ERROR(Measure(sequence, candidate, connectivity.vertex_order, &trial));
+          }
+          const bool meets = MeetsRateTarget(options, trial);
+          if (meets) {
+            best = std::move(candidate);
+            best_report = trial;
+          }
+          return meets;
+        }));
     bytes = std::move(best);
     out = best_report;
   } else {
     DMC_ASSIGN_OR_RETURN(bytes,
-                         EncodeOnce(sequence, connectivity, topology, chosen, diagonal, &out));
+                         EncodeOnce(sequence, connectivity, topology, options, diagonal, &out));
   }
   if (options.measure && !out.measured)
     DMC_RETURN_IF_ERROR(Measure(sequence, bytes, connectivity.vertex_order, &out));
@@ -791,18 +836,65 @@ std::string_view EncodeStageName(EncodeStage stage) {
   return "?";
 }
 
+namespace {
+
+// Rate control while streaming: each trial of SearchResidualStep is a whole streaming encode into
+// a scratch file beside the output (measured only for a distortion target), so memory stays one
+// segment's while the source is read about 14 times; the chosen step is then encoded to `output`
+// with the caller's options. The bytes are those of Encode() with the same target.
+Status EncodeStreamingWithRateSearch(FrameSource& source, const std::filesystem::path& output,
+                                     const EncoderOptions& options, EncodeReport* report,
+                                     const StreamingEncodeOptions& streaming,
+                                     std::chrono::steady_clock::time_point start) {
+  if (source.vertex_count() <= 0 || source.frame_count() <= 0) {
+    return InvalidSequenceError(source.vertex_count() <= 0 ? "the sequence has no vertices"
+                                                           : "the sequence has no frames");
+  }
+  DMC_ASSIGN_OR_RETURN(const BoundingBox box, ScanSource(source, nullptr, [&](int done) {
+                         if (streaming.progress) {
+                           streaming.progress(EncodeStage::kScan, done, source.frame_count());
+                         }
+                       }));
+  const double diagonal = std::max(box.diagonal(), 1e-12);
+  const std::filesystem::path scratch =
+      output.parent_path() / ("." + output.filename().string() + ".rate-trial");
+  double chosen_step = 0.0;
+  const Status searched = SearchResidualStep(
+      options, diagonal, [&](const EncoderOptions& trial_options) -> StatusOr<bool> {
+        EncoderOptions trial = trial_options;
+        trial.measure = options.target_sted > 0.0;
+        EncodeReport trial_report;
+        DMC_RETURN_IF_ERROR(EncodeStreaming(source, scratch, trial, &trial_report, streaming));
+        const bool meets = MeetsRateTarget(options, trial_report);
+        if (meets) chosen_step = trial.residual_step;
+        return meets;
+      });
+  std::error_code ignored;
+  std::filesystem::remove(scratch, ignored);
+  DMC_RETURN_IF_ERROR(searched);
+  EncoderOptions final_options = options;
+  final_options.target_bpfv = final_options.target_sted = 0.0;
+  final_options.residual_step = chosen_step;
+  DMC_RETURN_IF_ERROR(EncodeStreaming(source, output, final_options, report, streaming));
+  if (report) {
+    report->seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                        const EncoderOptions& options, EncodeReport* report,
                        const StreamingEncodeOptions& streaming) {
   const auto start = std::chrono::steady_clock::now();
   DMC_RETURN_IF_ERROR(ValidateOptions(options));
-  if (options.target_bpfv > 0.0 || options.target_sted > 0.0) {
-    return UnsupportedError(
-        "--target-bpfv and --target-sted search over whole-sequence encodes and are not "
-        "available when streaming; load the sequence and use Encode()");
-  }
   if (streaming.segments_in_flight < 1) {
     return InvalidArgumentError("segments in flight must be >= 1");
+  }
+  if (HasRateTarget(options)) {
+    return EncodeStreamingWithRateSearch(source, output, options, report, streaming, start);
   }
   const int v_count = source.vertex_count();
   const int frames = source.frame_count();
@@ -839,26 +931,9 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                          StreamingDistortion::Create(triangles, v_count, frames, frame0.data()));
   }
   frame0 = {};
-  BoundingBox box;
-  box.min.setConstant(std::numeric_limits<double>::infinity());
-  box.max.setConstant(-std::numeric_limits<double>::infinity());
-  {
-    const int frames_per_read = FramesPerRead(v_count, frames);
-    std::vector<float> block(per_frame * static_cast<size_t>(frames_per_read));
-    for (int done = 0; done < frames; done += frames_per_read) {
-      const int count = std::min(frames_per_read, frames - done);
-      DMC_RETURN_IF_ERROR(source.ReadFrames(done, count, block.data()));
-      DMC_RETURN_IF_ERROR(CheckFiniteFrames(block.data(), done, count, v_count));
-      for (int f = 0; f < count; ++f) {
-        const float* data = block.data() + per_frame * static_cast<size_t>(f);
-        const Eigen::Map<const FramePositions> positions(data, v_count, 3);
-        box.min = box.min.cwiseMin(positions.colwise().minCoeff().cast<double>().transpose());
-        box.max = box.max.cwiseMax(positions.colwise().maxCoeff().cast<double>().transpose());
-        if (meter) meter->AddOriginalFrame(data);
-      }
-      progress(EncodeStage::kScan, done + count);
-    }
-  }
+  DMC_ASSIGN_OR_RETURN(const BoundingBox box,
+                       ScanSource(source, meter ? &*meter : nullptr,
+                                  [&](int done) { progress(EncodeStage::kScan, done); }));
   if (meter) DMC_RETURN_IF_ERROR(meter->FinishOriginal());
 
   const double diagonal = std::max(box.diagonal(), 1e-12);
