@@ -22,6 +22,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -134,13 +135,17 @@ Json OptionsJson(const EncoderOptions& o) {
           {"weight_bits", o.weight_bits},
           {"ddl_regularization", o.ddl_regularization},
           {"weight_prediction_uniform", o.weight_prediction_uniform},
+          {"ddl_fallback", o.ddl_fallback},
           {"allow_reorder", o.allow_reorder},
           {"reference_bits", o.reference_bits}};
 }
 
+// The vectors named after an operator cover that operator's decoding, so the DDL's per-segment
+// fallback to kirchhoff/tutte is off here; one vector covers the fallback itself.
 EncoderOptions Options(const std::string& operator_name) {
   EncoderOptions options;
   options.operator_name = operator_name;
+  options.ddl_fallback = false;
   options.measure = false;
   return options;
 }
@@ -155,7 +160,9 @@ struct ValidVector {
   EncoderOptions options;
   int expected_connectivity_method;  // what the vector is meant to cover
   int minimum_segments = 1;
-  bool rank_zero = false;  // meant to cover a mean-only segment
+  bool rank_zero = false;        // meant to cover a mean-only segment
+  bool mixed_operators = false;  // meant to cover segments of different operators; otherwise
+                                 // every segment has the requested operator
 };
 
 std::vector<ValidVector> ValidVectors() {
@@ -246,6 +253,16 @@ std::vector<ValidVector> ValidVectors() {
         "mean value operator from a reference frame quantised on a coarse 2^-4 D grid",
         Synth("blob", 150, 5, 10), options, ConnectivityMethod::kDracoWithVertexOrder);
   }
+  {
+    EncoderOptions options = Options("ddl");
+    options.ddl_fallback = true;
+    options.segment_frames = 4;
+    add("twist_ddl_fallback_mixed",
+        "the DDL encoder's per-segment fallback: three 4-frame segments, each coded with the "
+        "operator the fallback chose (kirchhoff and tutte both occur)",
+        Synth("twist", 200, 12, 12), options, ConnectivityMethod::kDracoWithVertexOrder, 3);
+    vectors.back().mixed_operators = true;
+  }
   return vectors;
 }
 
@@ -297,6 +314,15 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
   if (vector.rank_zero && std::none_of(info.segments.begin(), info.segments.end(),
                                        [](const SegmentInfo& s) { return s.rank == 0; })) {
     return InternalError(vector.name + ": no rank-0 segment, meant to cover one");
+  }
+  std::set<std::string> operators;
+  for (const SegmentInfo& segment : info.segments) operators.insert(segment.operator_name);
+  if (vector.mixed_operators ? operators.size() < 2
+                             : operators != std::set<std::string>{vector.options.operator_name}) {
+    return InternalError(vector.name +
+                         ": segment operators do not cover what the vector is "
+                         "meant to (" +
+                         std::to_string(operators.size()) + " distinct)");
   }
   DMC_RETURN_IF_ERROR(KeepOlderVersion(directory, vector.name));
 
