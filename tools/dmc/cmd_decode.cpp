@@ -41,10 +41,9 @@ int RunDecode(const DecodeArgs& args) {
 
   if (args.segment < 0 && IsPc2(args.output)) {
     // A PC2 cache is written segment by segment as they decode: the whole sequence is never in
-    // memory. One segment at a time: concurrent factorisations of meshes above 30k vertices use
-    // METIS at once, whose random state is process-global, so their orderings (and the last bits
-    // of the output) would vary from run to run.
-    const Status status = DecodeToPc2(*bytes, args.output, show, 1);
+    // memory. Two segments in flight keep both cores busy on multi-segment streams (the output
+    // does not depend on it: see DecodeToPc2) for at most two decoded segments in memory.
+    const Status status = DecodeToPc2(*bytes, args.output, show, 2);
     progress.reset();
     if (!status.ok()) return ReportError("decode", status.WithContext(args.input), args.json);
     auto info = ReadStreamInfo(*bytes);

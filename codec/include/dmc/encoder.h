@@ -150,11 +150,10 @@ struct StreamingEncodeOptions {
   EncodeProgressCallback progress;
   // Segments encoded concurrently. Each holds its trajectories (12·V·F_s bytes) and its operator
   // fit (about 3.7 KB per vertex for DDL) while encoding, so 1 bounds memory best; more use more
-  // threads on multi-segment sequences. The bytes do not depend on the value, with one caveat
-  // shared with Encode()'s parallel segments: concurrent DDL fits of systems above 30k unknowns
-  // share METIS's process-global random state (see DecodeToPc2 in dmc/decoder.h), so their
-  // orderings, hence the last bits of the fitted weights, may differ; the weights' quantisation
-  // has absorbed that in every run measured so far, and 1 is free of it.
+  // threads on multi-segment sequences. The bytes do not depend on the value: the DDL fits'
+  // METIS orderings (systems above 30k unknowns) use a process-global random state, so the solver
+  // runs those analyses one at a time (see DecodeToPc2 in dmc/decoder.h), and the fallback's
+  // trial decodes order their normal matrices as the decoder does.
   int segments_in_flight = 1;
 };
 
