@@ -1,10 +1,17 @@
 // dmc: the command line front end of the dynamic mesh codec.
+#include <malloc.h>
+
 #include <CLI/CLI.hpp>
 #include <vector>
 
 #include "commands.h"
 
 int main(int argc, char** argv) {
+  // Buffers of 1 MiB and more are mapped and go back to the system when freed. glibc's default
+  // raises that threshold to the largest buffer freed so far (up to 32 MiB), after which such
+  // buffers come from the heap and stay resident: the encoder's trajectories then inflated its
+  // peak RSS (10k x 175 walker: 93 -> 81 MB with the fixed threshold, same time).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   CLI::App app{"dmc: compress, decode, measure and process dynamic meshes"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "dmc 0.1.0");

@@ -316,10 +316,15 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
   const double mean_degree = 2.0 * static_cast<double>(topology.edges.size()) / v_count;
   for (const auto& [id, step_scale] :
        {std::pair{OperatorId::kKirchhoff, mean_degree}, std::pair{OperatorId::kTutte, 1.0}}) {
-    SegmentSyntax candidate = ddl_syntax;
+    // Everything but the DDL's weights and deltas (write_residuals sets the deltas).
+    SegmentSyntax candidate;
+    candidate.header = ddl_syntax.header;
     candidate.header.operator_id = static_cast<uint8_t>(id);
     candidate.header.residual_step *= step_scale;
-    candidate.edge_weights.clear();
+    candidate.mean = ddl_syntax.mean;
+    candidate.basis = ddl_syntax.basis;
+    candidate.anchors = ddl_syntax.anchors;
+    candidate.anchor_values = ddl_syntax.anchor_values;
     StatusOr<std::vector<uint8_t>> residuals = write_residuals(candidate);
     if (!residuals.ok()) continue;  // e.g. a residual beyond the format's range at this step
     const double candidate_cost = cost(candidate, residuals->size());
@@ -689,11 +694,11 @@ Status SearchResidualStep(const EncoderOptions& options, double diagonal,
 
 // ---- Streaming ---------------------------------------------------------------------------------
 
-// Frames per read of the scan, segment and measure passes: blocks of about 4 MiB (at least one
+// Frames per read of the scan, segment and measure passes: blocks of about 1 MiB (at least one
 // frame). Larger blocks read no faster from a PC2 cache, and the block is held beside the
 // segment's trajectories, so it counts toward the encoder's peak memory.
 int FramesPerRead(int vertex_count, int frame_count) {
-  constexpr size_t kReadBytes = size_t{4} << 20;
+  constexpr size_t kReadBytes = size_t{1} << 20;
   const size_t frame_bytes = static_cast<size_t>(vertex_count) * 3 * sizeof(float);
   return static_cast<int>(
       std::clamp<size_t>(kReadBytes / frame_bytes, 1, static_cast<size_t>(frame_count)));
