@@ -149,4 +149,31 @@ int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours) {
                        std::bit_width(static_cast<uint64_t>(mean)) + 1);
 }
 
+ReferenceFramePredictor::ReferenceFramePredictor(const MeshTopology& topology)
+    : topology_(topology),
+      order_(BreadthFirstOrder(topology)),
+      coded_(topology.vertex_count, 0),
+      values_(topology.vertex_count) {}
+
+bool ReferenceFramePredictor::Predict(int v, std::array<int64_t, 3>* prediction) const {
+  std::array<int64_t, 3> sum = {0, 0, 0};
+  int count = 0;
+  for (int k = topology_.ring_offsets[v]; k < topology_.ring_offsets[v + 1]; ++k) {
+    const int n = topology_.ring_neighbors[k];
+    if (!coded_[n]) continue;
+    for (int axis = 0; axis < 3; ++axis) sum[axis] += values_[n][axis];
+    ++count;
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    (*prediction)[axis] = count > 0 ? RoundDiv(sum[axis], count) : previous_[axis];
+  }
+  return count > 0;
+}
+
+void ReferenceFramePredictor::Record(int v, const std::array<int64_t, 3>& values) {
+  values_[v] = values;
+  coded_[v] = 1;
+  previous_ = values;
+}
+
 }  // namespace dmc::format

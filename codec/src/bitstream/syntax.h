@@ -3,6 +3,7 @@
 // context selection. All integer or exactly specified; normative in bitstream-spec/dmc-format.md.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -97,6 +98,30 @@ bool IsGeometricOperator(uint8_t operator_id);
 struct ReferenceFrameContexts {
   IntegerContexts with_neighbours[3];
   IntegerContexts without_neighbours[3];
+};
+
+// The reference frame's prediction (spec §8.4), walked the same way by the writer and the reader:
+// vertices in BreadthFirstOrder; each axis of a vertex is predicted by the RoundDiv mean of its
+// already-coded one-ring neighbours' values, or, when none is coded yet, by the previous vertex's
+// (0 for the first). Use: for v in order(): Predict(v), code or decode v's three values against
+// the prediction, Record(v, values).
+class ReferenceFramePredictor {
+ public:
+  explicit ReferenceFramePredictor(const MeshTopology& topology);
+  const std::vector<int32_t>& order() const { return order_; }
+  // The prediction of vertex v; true when it comes from coded neighbours (the context set then
+  // is with_neighbours).
+  bool Predict(int v, std::array<int64_t, 3>* prediction) const;
+  void Record(int v, const std::array<int64_t, 3>& values);
+  // Every vertex's recorded values, by vertex index.
+  const std::vector<std::array<int64_t, 3>>& values() const { return values_; }
+
+ private:
+  const MeshTopology& topology_;
+  std::vector<int32_t> order_;
+  std::vector<uint8_t> coded_;
+  std::vector<std::array<int64_t, 3>> values_;
+  std::array<int64_t, 3> previous_ = {0, 0, 0};
 };
 
 struct MeanContexts {

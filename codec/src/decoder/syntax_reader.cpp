@@ -37,34 +37,24 @@ Status ReadReferenceFrame(std::span<const uint8_t> payload, const MeshTopology& 
   DMC_RETURN_IF_ERROR(decoder.Init(payload.subspan(8)));
   auto contexts = std::make_unique<format::ReferenceFrameContexts>();
   const int v_count = topology.vertex_count;
-  const std::vector<int32_t> order = format::BreadthFirstOrder(topology);
-  std::vector<uint8_t> decoded(v_count, 0);
-  std::vector<std::array<int64_t, 3>> q(v_count);
-  std::array<int64_t, 3> previous = {0, 0, 0};
+  format::ReferenceFramePredictor predictor(topology);
   constexpr int64_t kLimit = int64_t{1} << 40;
-  for (const int v : order) {
-    std::array<int64_t, 3> sum = {0, 0, 0};
-    int count = 0;
-    for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
-      const int n = topology.ring_neighbors[k];
-      if (!decoded[n]) continue;
-      for (int axis = 0; axis < 3; ++axis) sum[axis] += q[n][axis];
-      ++count;
-    }
+  for (const int v : predictor.order()) {
+    std::array<int64_t, 3> prediction, q;
+    const bool from_neighbours = predictor.Predict(v, &prediction);
     for (int axis = 0; axis < 3; ++axis) {
-      const int64_t prediction = count > 0 ? format::RoundDiv(sum[axis], count) : previous[axis];
       int64_t residual;
       DMC_RETURN_IF_ERROR(decoder.DecodeSigned(
-          count > 0 ? contexts->with_neighbours[axis] : contexts->without_neighbours[axis],
+          from_neighbours ? contexts->with_neighbours[axis] : contexts->without_neighbours[axis],
           &residual));
-      q[v][axis] = prediction + residual;
-      if (q[v][axis] > kLimit || q[v][axis] < -kLimit) {
+      q[axis] = prediction[axis] + residual;
+      if (q[axis] > kLimit || q[axis] < -kLimit) {
         return CorruptStreamError("reference frame coordinate out of range");
       }
     }
-    decoded[v] = 1;
-    previous = q[v];
+    predictor.Record(v, q);
   }
+  const std::vector<std::array<int64_t, 3>>& q = predictor.values();
   syntax.reference_frame.resize(v_count, 3);
   for (int v = 0; v < v_count; ++v) {
     for (int axis = 0; axis < 3; ++axis) {

@@ -151,28 +151,19 @@ std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const Mes
   RangeEncoder encoder;
   auto contexts = std::make_unique<format::ReferenceFrameContexts>();
   const int v_count = topology.vertex_count;
-  std::vector<uint8_t> done(v_count, 0);
-  std::vector<std::array<int64_t, 3>> q(v_count);
-  std::array<int64_t, 3> previous = {0, 0, 0};
-  for (const int v : format::BreadthFirstOrder(topology)) {
-    std::array<int64_t, 3> sum = {0, 0, 0};
-    int count = 0;
-    for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
-      const int n = topology.ring_neighbors[k];
-      if (!done[n]) continue;
-      for (int axis = 0; axis < 3; ++axis) sum[axis] += q[n][axis];
-      ++count;
-    }
+  format::ReferenceFramePredictor predictor(topology);
+  for (const int v : predictor.order()) {
+    std::array<int64_t, 3> prediction, q;
+    const bool from_neighbours = predictor.Predict(v, &prediction);
     for (int axis = 0; axis < 3; ++axis) {
-      const int64_t prediction = count > 0 ? format::RoundDiv(sum[axis], count) : previous[axis];
-      q[v][axis] = std::llround(frame(v, axis) / step);
+      q[axis] = std::llround(frame(v, axis) / step);
       encoder.EncodeSigned(
-          count > 0 ? contexts->with_neighbours[axis] : contexts->without_neighbours[axis],
-          q[v][axis] - prediction);
+          from_neighbours ? contexts->with_neighbours[axis] : contexts->without_neighbours[axis],
+          q[axis] - prediction[axis]);
     }
-    done[v] = 1;
-    previous = q[v];
+    predictor.Record(v, q);
   }
+  const std::vector<std::array<int64_t, 3>>& q = predictor.values();
   decoded->resize(v_count, 3);
   for (int v = 0; v < v_count; ++v) {
     for (int axis = 0; axis < 3; ++axis)
