@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "synth/generator_table.h"
 #include "synth/generators.h"
 
 namespace dmc {
@@ -24,40 +25,19 @@ constexpr GeneratorEntry kGenerators[] = {
     {"blob", "sphere with slowly varying spherical-harmonic deformation", synth::GenerateBlob},
 };
 
-const GeneratorEntry* FindGenerator(std::string_view name) {
-  for (const auto& entry : kGenerators) {
-    if (entry.name == name) return &entry;
-  }
-  return nullptr;
-}
-
-std::string KnownNames() {
-  std::string names;
-  for (const auto& entry : kGenerators) {
-    if (!names.empty()) names += ", ";
-    names += entry.name;
-  }
-  return names;
-}
-
 }  // namespace
 
-std::vector<std::string_view> SynthNames() {
-  std::vector<std::string_view> names;
-  for (const auto& entry : kGenerators) names.push_back(entry.name);
-  return names;
-}
+std::vector<std::string_view> SynthNames() { return synth::GeneratorNames(kGenerators); }
 
 std::string_view SynthDescription(std::string_view name) {
-  const GeneratorEntry* entry = FindGenerator(name);
-  return entry ? entry->description : std::string_view();
+  return synth::GeneratorDescription(kGenerators, name);
 }
 
 StatusOr<MeshSequence> Synthesize(std::string_view name, const SynthOptions& options) {
-  const GeneratorEntry* entry = FindGenerator(name);
+  const GeneratorEntry* entry = synth::FindGenerator(kGenerators, name);
   if (entry == nullptr) {
     return NotFoundError("unknown synthetic sequence '" + std::string(name) +
-                         "'; known: " + KnownNames());
+                         "'; known: " + synth::JoinedGeneratorNames(kGenerators));
   }
   if (options.frames < 1 || options.frames > kMaxSynthFrames) {
     return InvalidArgumentError("frames must be in [1, " + std::to_string(kMaxSynthFrames) +

@@ -1,6 +1,7 @@
 // The table of time-varying synthetic examples and SynthesizeTimeVarying().
 #include <string>
 
+#include "synth/generator_table.h"
 #include "synth/tvm_shapes.h"
 
 namespace dmc {
@@ -24,36 +25,22 @@ constexpr TimeVaryingEntry kTimeVaryingGenerators[] = {
      synth::GenerateCollision},
 };
 
-const TimeVaryingEntry* FindTimeVarying(std::string_view name) {
-  for (const auto& entry : kTimeVaryingGenerators) {
-    if (entry.name == name) return &entry;
-  }
-  return nullptr;
-}
-
 }  // namespace
 
 std::vector<std::string_view> TimeVaryingSynthNames() {
-  std::vector<std::string_view> names;
-  for (const auto& entry : kTimeVaryingGenerators) names.push_back(entry.name);
-  return names;
+  return synth::GeneratorNames(kTimeVaryingGenerators);
 }
 
 std::string_view TimeVaryingSynthDescription(std::string_view name) {
-  const TimeVaryingEntry* entry = FindTimeVarying(name);
-  return entry ? entry->description : std::string_view();
+  return synth::GeneratorDescription(kTimeVaryingGenerators, name);
 }
 
 StatusOr<TimeVaryingSynthesis> SynthesizeTimeVarying(std::string_view name,
                                                      const TimeVaryingSynthOptions& options) {
-  const TimeVaryingEntry* entry = FindTimeVarying(name);
+  const TimeVaryingEntry* entry = synth::FindGenerator(kTimeVaryingGenerators, name);
   if (entry == nullptr) {
-    std::string known;
-    for (const auto& candidate : kTimeVaryingGenerators) {
-      known += (known.empty() ? "" : ", ") + std::string(candidate.name);
-    }
     return NotFoundError("unknown time-varying synthetic sequence '" + std::string(name) +
-                         "'; known: " + known);
+                         "'; known: " + synth::JoinedGeneratorNames(kTimeVaryingGenerators));
   }
   if (options.frames < 1 || options.frames > kMaxSynthFrames) {
     return InvalidArgumentError("frames must be in [1, " + std::to_string(kMaxSynthFrames) +
