@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -20,13 +21,22 @@ namespace {
 
 py::object ReadSequenceBinding(const std::filesystem::path& path,
                                const std::optional<std::filesystem::path>& connectivity,
-                               int max_frames, int threads, bool metadata) {
+                               int max_frames, int threads, double gltf_fps,
+                               const std::string& gltf_mesh, const std::string& gltf_animation,
+                               bool gltf_weld, bool metadata) {
   if (max_frames < 0) ThrowInvalidArgument("max_frames must be >= 0 (0 = all)");
   if (threads < 0) ThrowInvalidArgument("threads must be >= 0 (0 = one per hardware thread)");
+  if (!(gltf_fps >= 0.0) || !std::isfinite(gltf_fps)) {
+    ThrowInvalidArgument("gltf_fps must be a finite number >= 0 (0 = the file's rate, else 30)");
+  }
   ReadOptions options;
   if (connectivity) options.connectivity = *connectivity;
   options.max_frames = max_frames;
   options.threads = threads;
+  options.gltf.frame_rate = gltf_fps;
+  options.gltf.mesh = gltf_mesh;
+  options.gltf.animation = gltf_animation;
+  options.gltf.weld = gltf_weld;
   ReadReport report;
   std::optional<MeshSequence> sequence;
   {
@@ -41,6 +51,7 @@ py::object ReadSequenceBinding(const std::filesystem::path& path,
   info["name"] = name;
   info["frame_rate"] = frame_rate > 0.0 ? py::object(py::float_(frame_rate)) : py::none();
   info["warnings"] = report.warnings;
+  info["vertex_map"] = report.vertex_map;
   return py::make_tuple(arrays[0], arrays[1], info);
 }
 
@@ -75,21 +86,28 @@ py::tuple SynthBinding(const std::string& name, int frames, int resolution, uint
 }
 
 constexpr const char* kReadDoc =
-    R"(read_sequence(path, *, connectivity=None, max_frames=0, threads=0, metadata=False) -> (frames, faces)
+    R"(read_sequence(path, *, connectivity=None, max_frames=0, threads=0, gltf_fps=0.0, gltf_mesh="", gltf_animation="", gltf_weld=False, metadata=False) -> (frames, faces)
 
 Reads a mesh sequence, exactly as the dmc CLI reads its inputs. `path` (str or os.PathLike) is
   - a directory of per-frame .obj, .off or .ply files, taken in natural order (2.obj before 10.obj);
   - a glob such as "dir/mesh_*.obj";
   - one .obj/.off/.ply file (one frame);
-  - a .pc2 point cache, with triangles from `connectivity` (default: <stem>.obj/.off/.ply beside it).
+  - a .pc2 point cache, with triangles from `connectivity` (default: <stem>.obj/.off/.ply beside it);
+  - a .glb/.gltf animation (skins, node animation, morph targets), posed at `gltf_fps`.
 Vertex and triangle order are kept as in the files; faces with more than 3 corners are
 fan-triangulated (with a warning).
 
 Args:
     max_frames: read at most this many (first) frames; 0 = all.
     threads: frame files parsed concurrently; 0 = one per hardware thread, 1 = serial.
-    metadata: also return a dict with name (the input's stem), frame_rate (None when unknown) and
-        warnings (list of str).
+    gltf_fps: glTF only: sampling rate; 0 = the rate a dmc export recorded, else 30
+        (frames = floor(clip length * fps) + 1), as `dmc ... --gltf-fps`.
+    gltf_mesh: glTF only: only the mesh or node of this name (all its primitives); "" = all.
+    gltf_animation: glTF only: animation name or index ("0", "1", ...); "" = the first.
+    gltf_weld: glTF only: merge vertices split only by UV/normal seams.
+    metadata: also return a dict with name (the input's stem), frame_rate (None when unknown),
+        warnings (list of str) and vertex_map (glTF: for every file vertex the sequence vertex it
+        became; empty otherwise).
 
 Returns:
     (frames float32 (F, V, 3), faces int32 (T, 3)), or (frames, faces, metadata).
@@ -147,7 +165,9 @@ Raises:
 void RegisterIo(py::module_& module) {
   module.def("read_sequence", &ReadSequenceBinding, kReadDoc, py::arg("path"), py::kw_only(),
              py::arg("connectivity") = py::none(), py::arg("max_frames") = 0,
-             py::arg("threads") = 0, py::arg("metadata") = false);
+             py::arg("threads") = 0, py::arg("gltf_fps") = 0.0, py::arg("gltf_mesh") = "",
+             py::arg("gltf_animation") = "", py::arg("gltf_weld") = false,
+             py::arg("metadata") = false);
   module.def("write_sequence", &WriteSequenceBinding, kWriteDoc, py::arg("path"), py::arg("frames"),
              py::arg("faces"), py::kw_only(), py::arg("frame_format") = "obj",
              py::arg("frame_rate") = 0.0, py::arg("name") = "");

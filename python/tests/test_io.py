@@ -48,7 +48,7 @@ class ReadWriteTest(unittest.TestCase):
         frames, faces, meta = dmc.read_sequence(self.path("walk"), max_frames=2, threads=1,
                                                 metadata=True)
         self.assertEqual(frames.shape[0], 2)
-        self.assertEqual(meta, {"name": "walk", "frame_rate": 24.0, "warnings": []})
+        self.assertEqual(meta, {"name": "walk", "frame_rate": 24.0, "warnings": [], "vertex_map": []})
         glob_frames, _ = dmc.read_sequence(os.path.join(self.path("walk"), "frame_000[13].obj"))
         np.testing.assert_array_equal(glob_frames, self.frames[[1, 3]])
 
@@ -83,6 +83,31 @@ class ReadWriteTest(unittest.TestCase):
         frames, faces = dmc.read_sequence(os.path.join(support.SHARED_DATA, "cow"), max_frames=3)
         self.assertEqual(frames.shape, (3, 2904, 3))
         self.assertEqual(faces.shape, (5804, 3))
+
+    @unittest.skipUnless(os.path.isfile(os.path.join(support.SHARED_DATA, "fox", "Fox.glb")),
+                         "../shared/data is absent")
+    def test_gltf_options(self):
+        fox = os.path.join(support.SHARED_DATA, "fox", "Fox.glb")
+        # The Fox's clips by name and index, sampled at 10 fps (the CLI tests' counts).
+        walk, _ = dmc.read_sequence(fox, gltf_fps=10, gltf_animation="Walk")
+        run, _ = dmc.read_sequence(fox, gltf_fps=10, gltf_animation="2")
+        self.assertEqual(walk.shape[0], 8)
+        self.assertEqual(run.shape[0], 12)
+        # Welding merges the seam-split vertices and keeps the map from file vertices.
+        plain, faces, info = dmc.read_sequence(fox, gltf_fps=2, metadata=True)
+        welded, welded_faces, welded_info = dmc.read_sequence(fox, gltf_fps=2, gltf_weld=True,
+                                                              metadata=True)
+        self.assertEqual(plain.shape[1], 1728)
+        self.assertEqual(welded.shape[1], 290)
+        self.assertEqual(welded_faces.shape, faces.shape)
+        self.assertEqual(len(welded_info["vertex_map"]), 1728)
+        self.assertEqual(max(welded_info["vertex_map"]), 289)
+        np.testing.assert_array_equal(welded[:, welded_info["vertex_map"], :], plain)
+        with self.assertRaises(dmc.Error) as caught:
+            dmc.read_sequence(fox, gltf_mesh="Nobody")
+        self.assertIn("Nobody", str(caught.exception))
+        with self.assertRaises(dmc.Error):
+            dmc.read_sequence(fox, gltf_fps=-1)
 
 
 class SynthTest(unittest.TestCase):
