@@ -48,7 +48,8 @@ class ReadWriteTest(unittest.TestCase):
         frames, faces, meta = dmc.read_sequence(self.path("walk"), max_frames=2, threads=1,
                                                 metadata=True)
         self.assertEqual(frames.shape[0], 2)
-        self.assertEqual(meta, {"name": "walk", "frame_rate": 24.0, "warnings": [], "vertex_map": []})
+        self.assertEqual(meta, {"name": "walk", "frame_rate": 24.0, "warnings": [],
+                                "vertex_map": []})
         glob_frames, _ = dmc.read_sequence(os.path.join(self.path("walk"), "frame_000[13].obj"))
         np.testing.assert_array_equal(glob_frames, self.frames[[1, 3]])
 
