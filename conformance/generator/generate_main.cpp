@@ -141,7 +141,7 @@ Json OptionsJson(const EncoderOptions& o) {
 }
 
 // The vectors named after an operator cover that operator's decoding, so the DDL's per-segment
-// fallback to kirchhoff/tutte is off here; one vector covers the fallback itself.
+// fallback to kirchhoff/tutte/mean-value is off here; one vector covers the fallback itself.
 EncoderOptions Options(const std::string& operator_name) {
   EncoderOptions options;
   options.operator_name = operator_name;
@@ -259,7 +259,7 @@ std::vector<ValidVector> ValidVectors() {
     options.segment_frames = 4;
     add("twist_ddl_fallback_mixed",
         "the DDL encoder's per-segment fallback: three 4-frame segments, each coded with the "
-        "operator the fallback chose (kirchhoff and tutte both occur)",
+        "operator the fallback chose (at least two different ones occur)",
         Synth("twist", 200, 12, 12), options, ConnectivityMethod::kDracoWithVertexOrder, 3);
     vectors.back().mixed_operators = true;
   }

@@ -178,9 +178,9 @@ Args:
     reference_bits: geometric operators: reference frame step = diagonal * 2^-bits.
     weight_bits: DDL weight step 2^-bits.
     ddl_mu: DDL Tikhonov pull toward Tutte (relative).
-    ddl_fallback: with operator ddl, code a segment with kirchhoff or tutte instead when that has
-        the lower rate at equal STED (report["segment_operators"] names each segment's choice);
-        False = always the fitted DDL weights.
+    ddl_fallback: with operator ddl, code a segment with kirchhoff, tutte or mean-value instead
+        when that has the lower rate at equal STED (report["segment_operators"] names each
+        segment's choice); False = always the fitted DDL weights.
     uniform_weight_prediction: predict DDL weights by the uniform share instead of the degree
         reference.
     target_bpfv: > 0: search the residual step for this rate (bits per frame and vertex).

@@ -24,7 +24,7 @@ class CodecCli : public ::testing::Test {
 };
 
 // --no-ddl-fallback keeps the fitted DDL in every segment; short segments (2 frames) cannot pay for
-// fitted weights, so with the fallback some segment takes kirchhoff or tutte, and the text report
+// fitted weights, so with the fallback some segment takes another operator, and the text report
 // says which.
 TEST_F(CodecCli, DdlFallbackCanBeTurnedOffAndIsReported) {
   const auto stream = dir_ / "blob.dmc";
@@ -66,7 +66,7 @@ TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
   const auto stream_info = nlohmann::json::parse(info.out);
   EXPECT_EQ(stream_info["bytes"].get<uint64_t>(), json["bytes"].get<uint64_t>());
   EXPECT_EQ(stream_info["segments"].size(), 1u);
-  // The ddl operator's fallback may code the segment with kirchhoff or tutte; info names it.
+  // The ddl operator's fallback may code the segment with another operator; info names it.
   ASSERT_EQ(json["segment_operators"].size(), 1u);
   EXPECT_EQ(stream_info["segments"][0]["operator"], json["segment_operators"][0]);
   EXPECT_EQ(json["operator"].get<std::string>(), "ddl");

@@ -199,8 +199,8 @@ Command AddEncodeCommand(CLI::App& parent) {
                   "predicted: 0.5 = rounding, inf = predicted only, 0 = choose per segment")
       ->capture_default_str();
   app->add_flag("--no-ddl-fallback", args->no_ddl_fallback,
-                "ddl: always code the fitted weights, never kirchhoff/tutte for a segment where "
-                "they have the lower rate at equal STED");
+                "ddl: always code the fitted weights, never kirchhoff, tutte or mean-value for a "
+                "segment where they have the lower rate at equal STED");
   app->add_flag("--uniform-weight-prediction", o.weight_prediction_uniform,
                 "DDL weights predicted by the thesis's uniform share, not the degree reference");
   app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");

@@ -47,9 +47,10 @@ struct EncoderOptions {
   // gives the smaller payload at the same step: better rate–STED on short segments (crane), but
   // it can raise the largest vertex error several-fold, so it is not the default.
   double ddl_dead_zone = 0.5;
-  // The ddl operator may code a segment with kirchhoff or tutte instead (no side information)
-  // when that has the lower rate at equal STED; short segments rarely pay for fitted weights. The
-  // stream names each segment's operator. false = always the fitted DDL weights.
+  // The ddl operator may code a segment with kirchhoff, tutte (no side information) or
+  // mean-value (a coded reference frame) instead when that has the lower rate at equal STED;
+  // short segments rarely pay for fitted weights. The stream names each segment's operator.
+  // false = always the fitted DDL weights.
   bool ddl_fallback = true;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
@@ -78,7 +79,7 @@ struct EncodeReport {
   double residual_step = 0.0;
   int segments = 0;
   // The operator each segment was coded with, in segment order: the requested one, or with the
-  // ddl operator's fallback (EncoderOptions::ddl_fallback) kirchhoff or tutte.
+  // ddl operator's fallback (EncoderOptions::ddl_fallback) kirchhoff, tutte or mean-value.
   std::vector<std::string> segment_operators;
 };
 

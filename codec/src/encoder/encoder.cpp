@@ -278,14 +278,16 @@ StatusOr<double> ReconstructedSted(const DistortionMeter& meter, const MeshTopol
 }
 
 // The ddl operator's fallback. Fitted weights are side information (about 10 bits per vertex per
-// segment) that only pays when the segment is long enough; the combinatorial operators need none.
-// So the segment is also coded with kirchhoff and tutte, each decoded as the decoder would and
-// measured, and the coding with the lowest cost bits + kStedSlopeBits · V · F · ln STED is kept
-// (the DDL on ties). Kirchhoff's rows sum to the vertex degree, not 1, so its δ are about mean
-// degree times larger: its residual step is scaled by the mean degree to reach a comparable
+// segment) that only pays when the segment is long enough; the combinatorial operators need none
+// and mean-value needs a coded reference frame (the segment's mean shape at reference_step). So
+// the segment is also coded with kirchhoff, tutte and mean-value, each decoded as the decoder
+// would and measured, and the coding with the lowest cost bits + kStedSlopeBits · V · F · ln STED
+// is kept (the DDL on ties). Kirchhoff's rows sum to the vertex degree, not 1, so its δ are about
+// mean degree times larger: its residual step is scaled by the mean degree to reach a comparable
 // distortion. The anchors, mean and basis are shared by every candidate.
 template <typename WriteResidualsFn>
 SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTopology& topology,
+                                    const Eigen::MatrixXd& mean_shape, double reference_step,
                                     const SegmentSyntax& ddl_syntax,
                                     std::vector<uint8_t> ddl_operator_payload,
                                     std::vector<uint8_t> ddl_residual_payload,
@@ -315,7 +317,8 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
   // or measured is not chosen.
   const double mean_degree = 2.0 * static_cast<double>(topology.edges.size()) / v_count;
   for (const auto& [id, step_scale] :
-       {std::pair{OperatorId::kKirchhoff, mean_degree}, std::pair{OperatorId::kTutte, 1.0}}) {
+       {std::pair{OperatorId::kKirchhoff, mean_degree}, std::pair{OperatorId::kTutte, 1.0},
+        std::pair{OperatorId::kMeanValue, 1.0}}) {
     // Everything but the DDL's weights and deltas (write_residuals sets the deltas).
     SegmentSyntax candidate;
     candidate.header = ddl_syntax.header;
@@ -325,12 +328,18 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
     candidate.basis = ddl_syntax.basis;
     candidate.anchors = ddl_syntax.anchors;
     candidate.anchor_values = ddl_syntax.anchor_values;
+    std::vector<uint8_t> operator_payload;
+    if (id == OperatorId::kMeanValue) {
+      // Its weights come from the segment's mean shape, coded as the reference frame.
+      operator_payload = syntax::WriteReferenceFrame(mean_shape, topology, reference_step,
+                                                     &candidate.reference_frame);
+    }
     StatusOr<std::vector<uint8_t>> residuals = write_residuals(candidate);
     if (!residuals.ok()) continue;  // e.g. a residual beyond the format's range at this step
-    const double candidate_cost = cost(candidate, residuals->size());
+    const double candidate_cost = cost(candidate, operator_payload.size() + residuals->size());
     if (candidate_cost < best_cost) {  // false for NaN
       best_cost = candidate_cost;
-      best = {candidate.header, {}, std::move(residuals).value()};
+      best = {candidate.header, std::move(operator_payload), std::move(residuals).value()};
     }
   }
   return best;
@@ -430,9 +439,9 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
     syntax.edge_weights = std::move(choice.edge_weights);
     syntax.delta = std::move(choice.delta);
     if (options.ddl_fallback) {
-      SegmentCoding chosen =
-          ChooseSegmentOperator(*measured, topology, syntax, std::move(operator_payload),
-                                std::move(residual_payload), write_residuals);
+      SegmentCoding chosen = ChooseSegmentOperator(
+          *measured, topology, mean_shape, std::ldexp(diagonal, -options.reference_bits), syntax,
+          std::move(operator_payload), std::move(residual_payload), write_residuals);
       h.operator_id = chosen.header.operator_id;
       h.residual_step = chosen.header.residual_step;
       operator_payload = std::move(chosen.operator_payload);
