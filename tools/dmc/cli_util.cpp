@@ -2,8 +2,6 @@
 
 #include <unistd.h>
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -66,11 +64,11 @@ void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags, std::string_view ap
 }
 
 bool IsGltfPath(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = LowercaseExtension(path);
   return extension == ".glb" || extension == ".gltf";
 }
+
+bool IsPc2Path(const std::filesystem::path& path) { return LowercaseExtension(path) == ".pc2"; }
 
 std::vector<std::string> GivenGltfOptions(const GltfReadFlags& flags) {
   std::vector<std::string> given;

@@ -62,6 +62,9 @@ void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags,
 // only inputs ReadSequence applies GltfReadOptions to.
 bool IsGltfPath(const std::filesystem::path& path);
 
+// True when `path` names a .pc2 point cache (case-insensitively).
+bool IsPc2Path(const std::filesystem::path& path);
+
 // The --gltf-* options given explicitly on the command line, in declaration order.
 std::vector<std::string> GivenGltfOptions(const GltfReadFlags& flags);
 

@@ -1,7 +1,6 @@
 // dmc decode: reconstruct a mesh sequence from a .dmc stream.
 #include <fmt/format.h>
 
-#include <cctype>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -24,12 +23,6 @@ struct DecodeArgs {
   bool progress = false;
 };
 
-bool IsPc2(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".pc2";
-}
-
 int RunDecode(const DecodeArgs& args) {
   auto bytes = ReadFileBytes(args.input);
   if (!bytes.ok()) return ReportError("decode", bytes.status(), args.json);
@@ -39,7 +32,7 @@ int RunDecode(const DecodeArgs& args) {
     progress->Update(done);
   };
 
-  if (args.segment < 0 && IsPc2(args.output)) {
+  if (args.segment < 0 && IsPc2Path(args.output)) {
     // A PC2 cache is written segment by segment as they decode: the whole sequence is never in
     // memory. Two segments in flight keep both cores busy on multi-segment streams (the output
     // does not depend on it: see DecodeToPc2) for at most two decoded segments in memory.

@@ -10,7 +10,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -65,8 +64,7 @@ nlohmann::json MeasurementsJson(const std::vector<Measurement>& measurements) {
 // scalars and OUTPUT is a .ply file or a directory, PLY files carrying the scalar and colours.
 Status WriteResult(const ProcessingResult& result, const EditArgs& args, bool* scalars_written) {
   const std::filesystem::path output(args.output);
-  std::string extension = output.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = LowercaseExtension(output);
   *scalars_written = false;
   if (!result.scalar_name.empty() && extension == ".ply") {
     if (result.sequence.frame_count() != 1) {

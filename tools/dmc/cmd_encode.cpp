@@ -2,7 +2,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -31,12 +30,6 @@ struct EncodeArgs {
   bool progress = false;
 };
 
-bool IsPc2(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".pc2";
-}
-
 // Encodes with EncodeStreaming: a PC2 cache is read segment by segment (memory bounded by one
 // segment, also under rate control, which then reads the cache once per trial); other inputs are
 // read whole first and encoded several segments at a time. The bytes are Encode()'s either way.
@@ -52,7 +45,7 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
     progress->Update(done);
   };
   WarnIfGltfOptionsUnused("encode", args.gltf, {args.input});
-  if (IsPc2(args.input)) {
+  if (IsPc2Path(args.input)) {
     std::vector<std::string> warnings;
     DMC_ASSIGN_OR_RETURN(std::unique_ptr<FrameSource> source,
                          OpenPc2FrameSource(args.input, args.connectivity, &warnings));

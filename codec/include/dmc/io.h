@@ -75,6 +75,10 @@ struct ReadReport {
   std::vector<int32_t> vertex_map;
 };
 
+// The extension of `path` in lower case, with its dot (".pc2"; "" when there is none): how every
+// reader and writer of dmc, and the CLI, recognise a file's kind.
+std::string LowercaseExtension(const std::filesystem::path& path);
+
 // Reads a mesh sequence. INPUT is one of:
 //  - a directory holding per-frame .obj, .off or .ply files (one format; other files are ignored),
 //    taken in natural order (2.obj before 10.obj); hidden files (".name") are skipped;

@@ -540,10 +540,7 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
   }
   tinygltf::Model model;
   std::string errors, warnings;
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const bool ok = extension == ".glb"
+  const bool ok = LowercaseExtension(path) == ".glb"
                       ? loader.LoadBinaryFromFile(&model, &errors, &warnings, path.string())
                       : loader.LoadASCIIFromFile(&model, &errors, &warnings, path.string());
   if (!ok) {

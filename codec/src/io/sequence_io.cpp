@@ -54,12 +54,6 @@ namespace {
 using io_internal::MeshFileData;
 using io_internal::MeshFormat;
 
-std::string Lowercase(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-
 std::string FrameLabel(int frame, const std::filesystem::path& path) {
   return "frame " + std::to_string(frame) + " (" + path.string() + ")";
 }
@@ -304,6 +298,13 @@ StatusOr<MeshSequence> ReadPc2(const std::filesystem::path& cache, const ReadOpt
 
 }  // namespace
 
+std::string LowercaseExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
 StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const ReadOptions& options,
                                     ReadReport* report) {
   if (options.max_frames < 0) {
@@ -338,14 +339,13 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const Re
     sequence = ReadFrameFiles(files, options, warnings);
   } else if (!std::filesystem::exists(status)) {
     return IoError("cannot open " + input.string() + ": no such file or directory");
-  } else if (Lowercase(input.extension().string()) == ".pc2") {
+  } else if (LowercaseExtension(input) == ".pc2") {
     name = input.stem().string();
     sequence = ReadPc2(input, options, warnings);
   } else if (io_internal::MeshFormatFromPath(input)) {
     name = input.stem().string();
     sequence = ReadFrameFiles({input}, options, warnings);
-  } else if (const std::string ext = Lowercase(input.extension().string());
-             ext == ".glb" || ext == ".gltf") {
+  } else if (const std::string ext = LowercaseExtension(input); ext == ".glb" || ext == ".gltf") {
     name = input.stem().string();
     auto imported = io_internal::ReadGltf(input, options.gltf, options.max_frames);
     if (!imported.ok()) return imported.status();
@@ -517,7 +517,7 @@ Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& 
       ValidateSequence(sequence).WithContext("cannot write " + output_path.string()));
   const std::filesystem::path output = WithoutTrailingSeparator(output_path);
   DMC_RETURN_IF_ERROR(io_internal::CheckParentDirectory(output));
-  const std::string extension = Lowercase(output.extension().string());
+  const std::string extension = LowercaseExtension(output);
 
   if (extension == ".pc2") return WritePc2Pair(sequence, output, options);
   if (extension == ".glb") {
