@@ -21,6 +21,20 @@ Eigen::Index RowBlocks(Eigen::Index rows) { return (rows + kRowBlock - 1) / kRow
 // buffer after the trajectories themselves.
 constexpr Eigen::Index kCentredRows = 256;
 
+// Calls use(offset, centred) for consecutive runs of at most kCentredRows rows of
+// trajectories[start, start + count), centred (rows minus `mean`) in double, in row order.
+template <typename Use>
+void ForEachCentredRun(const SegmentTrajectories& trajectories, const Eigen::VectorXd& mean,
+                       Eigen::Index start, Eigen::Index count, Use use) {
+  Eigen::MatrixXd centred;
+  for (Eigen::Index offset = 0; offset < count; offset += kCentredRows) {
+    const Eigen::Index n = std::min(kCentredRows, count - offset);
+    centred =
+        trajectories.middleRows(start + offset, n).cast<double>().rowwise() - mean.transpose();
+    use(start + offset, centred);
+  }
+}
+
 }  // namespace
 
 void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
@@ -63,13 +77,10 @@ SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
   tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
     const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
     partial[b] = Eigen::MatrixXd::Zero(cols, cols);
-    Eigen::MatrixXd centred;
-    for (Eigen::Index offset = 0; offset < count; offset += kCentredRows) {
-      const Eigen::Index n = std::min(kCentredRows, count - offset);
-      centred = trajectories.middleRows(start + offset, n).cast<double>().rowwise() -
-                pca.mean.transpose();
-      partial[b].selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
-    }
+    ForEachCentredRun(trajectories, pca.mean, start, count,
+                      [&](Eigen::Index, const Eigen::MatrixXd& centred) {
+                        partial[b].selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
+                      });
   });
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(cols, cols);
   for (const auto& p : partial) gram += p;
@@ -84,16 +95,12 @@ Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
                                     const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis) {
   const Eigen::Index rows = trajectories.rows();
   Eigen::MatrixXd projected(rows, basis.cols());
-  // kCentredRows rows at a time, for the reason given in ComputeSegmentPca.
   tbb::parallel_for(Eigen::Index{0}, RowBlocks(rows), [&](Eigen::Index b) {
     const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
-    Eigen::MatrixXd centred;
-    for (Eigen::Index offset = 0; offset < count; offset += kCentredRows) {
-      const Eigen::Index n = std::min(kCentredRows, count - offset);
-      centred =
-          trajectories.middleRows(start + offset, n).cast<double>().rowwise() - mean.transpose();
-      projected.middleRows(start + offset, n).noalias() = centred * basis;
-    }
+    ForEachCentredRun(trajectories, mean, start, count,
+                      [&](Eigen::Index first, const Eigen::MatrixXd& centred) {
+                        projected.middleRows(first, centred.rows()).noalias() = centred * basis;
+                      });
   });
   return projected;
 }
