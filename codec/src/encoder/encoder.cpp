@@ -671,9 +671,10 @@ bool MeetsRateTarget(const EncoderOptions& options, const EncodeReport& report) 
 // Rate control: bisection on the residual step, 2^-1 … 2^-24 of the diagonal, in 12 halvings of
 // the interval in bits (rank follows the step automatically). Rate falls and distortion rises
 // monotonically with the step. `trial` encodes with the options it is given (the targets cleared,
-// residual_step set) and says whether the result meets the target; the search keeps the finest
-// step that meets a rate target, the coarsest that meets a distortion target, and returns it.
-// The in-memory and the streaming encoder share it, so they choose the same step.
+// residual_step set) and says whether the result meets the target. The search moves toward the
+// finest step that meets a rate target and the coarsest that meets a distortion target, so the
+// last trial that met it is the choice: `trial` keeps it. kInvalidArgument when none met it. The
+// in-memory and the streaming encoder share it, so they choose the same step.
 Status SearchResidualStep(const EncoderOptions& options, double diagonal,
                           const std::function<StatusOr<bool>(const EncoderOptions&)>& trial) {
   const bool prefer_finer = options.target_bpfv > 0.0;
@@ -852,7 +853,8 @@ std::string_view EncodeStageName(EncodeStage stage) {
 
 namespace {
 
-// Rate control while streaming: each trial of SearchResidualStep is a whole streaming encode into
+// Rate control while streaming, for a source with vertices and frames within the format's limits:
+// each trial of SearchResidualStep is a whole streaming encode into
 // a scratch file beside the output (measured only for a distortion target), so memory stays one
 // segment's while the source is read about 14 times; the chosen step is then encoded to `output`
 // with the caller's options. The bytes are those of Encode() with the same target.
@@ -860,18 +862,17 @@ Status EncodeStreamingWithRateSearch(FrameSource& source, const std::filesystem:
                                      const EncoderOptions& options, EncodeReport* report,
                                      const StreamingEncodeOptions& streaming,
                                      std::chrono::steady_clock::time_point start) {
-  if (source.vertex_count() <= 0 || source.frame_count() <= 0) {
-    return InvalidSequenceError(source.vertex_count() <= 0 ? "the sequence has no vertices"
-                                                           : "the sequence has no frames");
-  }
   DMC_ASSIGN_OR_RETURN(const BoundingBox box, ScanSource(source, nullptr, [&](int done) {
                          if (streaming.progress) {
                            streaming.progress(EncodeStage::kScan, done, source.frame_count());
                          }
                        }));
   const double diagonal = std::max(box.diagonal(), 1e-12);
-  const std::filesystem::path scratch =
-      output.parent_path() / ("." + output.filename().string() + ".rate-trial");
+  // A hidden name beside the output: ".<name>.rate-trial".
+  std::filesystem::path scratch_name = ".";
+  scratch_name += output.filename();
+  scratch_name += ".rate-trial";
+  const std::filesystem::path scratch = output.parent_path() / scratch_name;
   double chosen_step = 0.0;
   const Status searched = SearchResidualStep(
       options, diagonal, [&](const EncoderOptions& trial_options) -> StatusOr<bool> {
@@ -907,9 +908,6 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
   if (streaming.segments_in_flight < 1) {
     return InvalidArgumentError("segments in flight must be >= 1");
   }
-  if (HasRateTarget(options)) {
-    return EncodeStreamingWithRateSearch(source, output, options, report, streaming, start);
-  }
   const int v_count = source.vertex_count();
   const int frames = source.frame_count();
   const Triangles& triangles = source.triangles();
@@ -924,6 +922,10 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                                              : "the sequence has no frames");
   }
   DMC_RETURN_IF_ERROR(CheckFormatLimits(v_count, frames));
+  // Rate control runs whole streaming encodes (which make the checks below) per trial.
+  if (HasRateTarget(options)) {
+    return EncodeStreamingWithRateSearch(source, output, options, report, streaming, start);
+  }
   const size_t per_frame = static_cast<size_t>(v_count) * 3;
   std::vector<float> frame0(per_frame);
   DMC_RETURN_IF_ERROR(source.ReadFrames(0, 1, frame0.data()));
