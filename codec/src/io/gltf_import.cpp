@@ -784,11 +784,15 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
       first = false;
     }
   }
-  // A frame at every 1/fps from the start, the last one no later than the end (1e-9 s of slack so
-  // that a 2 s clip at 24 fps has its 49th frame despite rounding).
+  // A frame at every 1/fps from the start, the last one no later than the end. Key times are
+  // float32 (glTF accessors), so start and end each carry up to 2^-24 of their magnitude in
+  // rounding: twice that is the slack (in frames), so a clip whose last key is at (F − 1)/fps has
+  // its F-th frame (an exported 59-frame, 30 fps sequence read back with 58 frames under 1e-9 of
+  // slack).
   const double span = (end - start) * options.frame_rate;
   if (span > 1e7) return InvalidArgumentError("the animation would need more than 10^7 frames");
-  int frame_count = static_cast<int>(std::floor(span + 1e-9)) + 1;
+  const double slack = std::ldexp(std::abs(start) + std::abs(end), -23) * options.frame_rate + 1e-9;
+  int frame_count = static_cast<int>(std::floor(span + slack)) + 1;
   if (max_frames > 0) frame_count = std::min(frame_count, max_frames);
 
   const Triangles triangle_matrix = [&] {

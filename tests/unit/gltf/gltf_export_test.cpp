@@ -142,6 +142,25 @@ TEST(GltfExportTest, WriteAndReadSequenceRoundTripThroughGlb) {
   EXPECT_EQ(WriteSequence(sequence, path, write).code(), ErrorCode::kInvalidArgument);
 }
 
+// glTF key times are float32, so the last frame's time is F − 1 frame periods only to within
+// float rounding: an exported sequence must read back with its own frame count at its recorded
+// rate (59 frames at 30 fps once came back as 58).
+TEST(GltfExportTest, EveryFrameCountReadsBackAtTheRecordedRate) {
+  const auto path = TempFile("count.glb");
+  for (const double fps : {24.0, 25.0, 29.97, 30.0, 60.0}) {
+    for (int frames = 2; frames <= 90; ++frames) {
+      MeshSequence sequence = testing::PlanarGrid(3, frames);
+      sequence.frame_rate = fps;
+      WriteOptions write;
+      write.glb_layout = "morph";
+      ASSERT_TRUE(WriteSequence(sequence, path, write).ok());
+      auto back = ReadSequence(path);
+      ASSERT_TRUE(back.ok()) << back.status().ToString();
+      EXPECT_EQ(back->frame_count(), frames) << fps << " fps";
+    }
+  }
+}
+
 TEST(GltfExportTest, SingleFrameHasNoAnimation) {
   auto glb = EncodeGlb(testing::Tetrahedron(1), GlbLayout::kMorph);
   ASSERT_TRUE(glb.ok());
