@@ -8,8 +8,10 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "bitstream/syntax.h"
+#include "decoder/synthesis_kernel.h"
 
 namespace dmc {
 
@@ -56,39 +58,53 @@ Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basi
                         const Eigen::MatrixXd& coefficients, int frame_count, float* frames) {
   const Eigen::Index v_count = coefficients.rows();
   const Eigen::Index width = 3 * static_cast<Eigen::Index>(frame_count);
-  // Fixed-size vertex blocks: each block's trajectories are one small GEMM, so the decoder never
-  // holds the V×3F binary64 matrix (twice the float32 output), and the partition — hence every
-  // rounding — is the same for any thread count.
+  // Fixed-size vertex blocks, in parallel, the vertices of a block four at a time: the decoder
+  // never holds the V×3F binary64 matrix (twice the float32 output), and each position is one
+  // sequential sum over k (SumTrajectoryProducts), so no partition or thread count changes a bit.
   constexpr Eigen::Index kBlockRows = 256;
   const Eigen::Index block_count = (v_count + kBlockRows - 1) / kBlockRows;
+  const int rank = static_cast<int>(basis.cols());
   std::atomic<Eigen::Index> first_bad_vertex{v_count};
-  // One block buffer per worker thread (256 × 3F doubles, 1 MB at 175 frames), not one
-  // allocation (and its page faults) per block.
-  tbb::enumerable_thread_specific<Eigen::MatrixXd> buffers;
+  struct Scratch {
+    std::vector<double> sums;          // kSynthesisVertexGroup × 3F
+    std::vector<double> coefficients;  // the group's coefficient rows, kSynthesisVertexGroup × r
+  };
+  tbb::enumerable_thread_specific<Scratch> scratches;
   tbb::parallel_for(Eigen::Index{0}, block_count, [&](Eigen::Index block) {
     const Eigen::Index begin = block * kBlockRows;
-    const Eigen::Index rows = std::min(kBlockRows, v_count - begin);
-    Eigen::MatrixXd& trajectories = buffers.local();
-    trajectories.resize(rows, width);
-    if (basis.cols() > 0) {
-      trajectories.noalias() = coefficients.middleRows(begin, rows) * basis.transpose();
-    } else {
-      trajectories.setZero();
-    }
+    const Eigen::Index end = std::min(v_count, begin + kBlockRows);
+    Scratch& scratch = scratches.local();
+    scratch.sums.resize(static_cast<size_t>(kSynthesisVertexGroup * width));
+    scratch.coefficients.resize(static_cast<size_t>(kSynthesisVertexGroup) * rank);
     constexpr double kFloatMax = std::numeric_limits<float>::max();
     bool in_range = true;
-    // The mean is added while converting (the same double sum as a separate pass, one pass less
-    // over the block).
-    for (int f = 0; f < frame_count; ++f) {
-      float* frame = frames + (static_cast<size_t>(f) * v_count + begin) * 3;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double offset = mean[3 * f + axis];
-        const double* column = trajectories.col(3 * f + axis).data();
-        for (Eigen::Index v = 0; v < rows; ++v) {
-          const double x = column[v] + offset;
-          // NaN fails the comparison; values that round to ±FLT_MAX are still representable.
-          in_range = in_range && std::abs(x) <= kFloatMax;
-          frame[v * 3 + axis] = static_cast<float>(x);
+    for (Eigen::Index group = begin; group < end; group += kSynthesisVertexGroup) {
+      const int group_size =
+          static_cast<int>(std::min<Eigen::Index>(kSynthesisVertexGroup, end - group));
+      const double* rows[kSynthesisVertexGroup] = {};
+      for (int i = 0; i < group_size; ++i) {
+        double* row = scratch.coefficients.data() + static_cast<size_t>(i) * rank;
+        for (int k = 0; k < rank; ++k) row[k] = coefficients(group + i, k);
+        rows[i] = row;
+      }
+      if (rank > 0) {
+        SumTrajectoryProducts(rows, group_size, basis.data(), rank, width, scratch.sums.data());
+      } else {
+        std::fill(scratch.sums.begin(), scratch.sums.end(), 0.0);
+      }
+      // The mean is added while converting (the same double sum as a separate pass); frame by
+      // frame, so the group's positions in a frame are written side by side.
+      float* group_positions = frames + static_cast<size_t>(group) * 3;
+      for (Eigen::Index j = 0; j < width; j += 3) {
+        float* out = group_positions + static_cast<size_t>(j / 3) * v_count * 3;
+        for (int i = 0; i < group_size; ++i) {
+          const double* sums = scratch.sums.data() + static_cast<size_t>(i) * width + j;
+          for (int axis = 0; axis < 3; ++axis) {
+            const double x = sums[axis] + mean[j + axis];
+            // NaN fails the comparison; values that round to ±FLT_MAX are still representable.
+            in_range = in_range && std::abs(x) <= kFloatMax;
+            out[3 * i + axis] = static_cast<float>(x);
+          }
         }
       }
     }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "decoder/segment_reconstruction.h"
+#include "decoder/synthesis_kernel.h"
 #include "dmc/operators.h"
 #include "dmc/wire_ids.h"
 #include "solvers/blas_threads.h"
@@ -145,6 +146,56 @@ TEST(DecoderFastPaths, SynthesisEqualsBlockwiseProductPlusMean) {
     }
   }
   EXPECT_EQ(frames, expected);
+}
+
+// The vectorised kernel against a sequential dot product, for every group size, widths around the
+// strip length and ranks up to the target's 60: identical bits (whichever clone the CPU runs).
+TEST(DecoderFastPaths, SynthesisKernelEqualsSequentialDotProducts) {
+  for (const int rank : {1, 2, 7, 60}) {
+    for (const std::ptrdiff_t width : {1, 3, 7, 8, 9, 16, 23, 525}) {
+      const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(width, rank);
+      const Eigen::MatrixXd coefficients = 100.0 * Eigen::MatrixXd::Random(rank, 4);
+      for (int group = 1; group <= kSynthesisVertexGroup; ++group) {
+        const double* rows[kSynthesisVertexGroup] = {};
+        for (int i = 0; i < group; ++i) rows[i] = coefficients.col(i).data();
+        std::vector<double> sums(static_cast<size_t>(group * width), -1.0);
+        SumTrajectoryProducts(rows, group, basis.data(), rank, width, sums.data());
+        std::vector<double> expected(sums.size());
+        for (int i = 0; i < group; ++i) {
+          for (std::ptrdiff_t j = 0; j < width; ++j) {
+            double sum = 0.0;
+            for (int k = 0; k < rank; ++k) sum += coefficients(k, i) * basis(j, k);
+            expected[static_cast<size_t>(i * width + j)] = sum;
+          }
+        }
+        EXPECT_EQ(std::memcmp(sums.data(), expected.data(), sums.size() * sizeof(double)), 0)
+            << "rank " << rank << ", width " << width << ", group " << group;
+      }
+    }
+  }
+}
+
+// At the decode target's shape (rank 60, 175 frames, a partial last group and block) the frames
+// are still those of the blockwise Eigen product the decoder used before the kernel.
+TEST(DecoderFastPaths, SynthesisAtTheTargetShapeEqualsTheEigenProduct) {
+  constexpr int kVertices = 515, kFrames = 175, kRank = 60;
+  const Eigen::MatrixXd coefficients = Eigen::MatrixXd::Random(kVertices, kRank);
+  const Eigen::MatrixXd basis = 0.1 * Eigen::MatrixXd::Random(3 * kFrames, kRank);
+  const Eigen::VectorXd mean = Eigen::VectorXd::Random(3 * kFrames);
+  std::vector<float> frames(static_cast<size_t>(kVertices) * kFrames * 3);
+  ASSERT_TRUE(SynthesizeFrames(mean, basis, coefficients, kFrames, frames.data()).ok());
+  const Eigen::MatrixXd trajectories = coefficients * basis.transpose();
+  size_t differing = 0;
+  for (int f = 0; f < kFrames; ++f) {
+    for (int v = 0; v < kVertices; ++v) {
+      for (int axis = 0; axis < 3; ++axis) {
+        const auto expected =
+            static_cast<float>(trajectories(v, 3 * f + axis) + mean[3 * f + axis]);
+        differing += frames[(static_cast<size_t>(f) * kVertices + v) * 3 + axis] != expected;
+      }
+    }
+  }
+  EXPECT_EQ(differing, 0u);
 }
 
 TEST(DecoderFastPaths, SynthesisRejectsPositionsBeyondFloat) {
