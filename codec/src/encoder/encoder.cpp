@@ -14,10 +14,12 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "decoder/segment_reconstruction.h"
+#include "decoder/syntax_reader.h"
 #include "dmc/decoder.h"
 #include "dmc/io.h"
 #include "dmc/operators.h"
@@ -169,12 +171,23 @@ std::vector<int32_t> ChooseAnchors(const Eigen::MatrixXd& mean_shape, const Mesh
   return anchors;
 }
 
-struct DdlChoice {
+// One way of coding a segment's operator and residuals, with what the decoder rebuilds the
+// operator from besides the header. The dequantised residuals are not kept: the payload holds
+// them, and the fallback decodes them again only while it measures this coding (a V×r matrix per
+// coding would be the largest buffer of the encoder's peak).
+struct SegmentCoding {
+  format::SegmentHeader header;  // its operator and residual step
   std::vector<uint8_t> operator_payload;
   std::vector<uint8_t> residual_payload;
-  std::vector<int64_t> edge_weights;
-  Eigen::MatrixXd delta;  // the dequantised residuals the payload holds
+  std::vector<int64_t> edge_weights;  // ddl: the coded weights
+  FramePositionsD reference_frame;    // geometric operators: the decoded reference frame
+
+  size_t payload_bytes() const { return operator_payload.size() + residual_payload.size(); }
 };
+
+// Codes the residuals of the operator `target` names (its header, edge weights or reference
+// frame) for the segment's coefficients: δ = L·C, quantised with target.header's step.
+using WriteResidualsFn = std::function<StatusOr<std::vector<uint8_t>>(const SegmentSyntax&)>;
 
 // Fitted DDL weights cost side information (about 10 bits per vertex per segment at 2^-7); on a
 // short segment they may not pay for themselves. With options.ddl_dead_zone = 0 the encoder codes
@@ -184,40 +197,29 @@ struct DdlChoice {
 // 0.0245, crane 0.0371 vs 0.0369), so rate decides. (A Lagrangian cost with the coefficient error
 // as distortion was tried and rejected: that error follows KG, not STED, and picked the predicted
 // weights on samba, where the fitted ones win both rate and STED.) A fixed dead zone codes once.
-template <typename WriteResidualsFn>
-StatusOr<DdlChoice> ChooseDdlWeights(const std::vector<double>& fitted,
-                                     const MeshTopology& topology, const EncoderOptions& options,
-                                     format::WeightPrediction mode, const SegmentSyntax& syntax,
-                                     WriteResidualsFn write_residuals) {
+// Only the smallest coding so far is kept (the first on ties).
+StatusOr<SegmentCoding> ChooseDdlWeights(const std::vector<double>& fitted,
+                                         const MeshTopology& topology,
+                                         const EncoderOptions& options,
+                                         format::WeightPrediction mode,
+                                         const format::SegmentHeader& header,
+                                         const WriteResidualsFn& write_residuals) {
   std::vector<double> dead_zones = {options.ddl_dead_zone};
   if (options.ddl_dead_zone == 0.0) dead_zones = {0.5, std::numeric_limits<double>::infinity()};
-  std::vector<DdlChoice> trials;
+  std::optional<SegmentCoding> best;
   for (double dead_zone : dead_zones) {
-    SegmentSyntax trial = syntax;
-    DdlChoice choice;
-    choice.operator_payload = syntax::WriteDdlWeights(fitted, topology, options.weight_bits, mode,
+    SegmentSyntax trial;
+    trial.header = header;
+    SegmentCoding coding;
+    coding.header = header;
+    coding.operator_payload = syntax::WriteDdlWeights(fitted, topology, options.weight_bits, mode,
                                                       &trial.edge_weights, dead_zone);
-    DMC_ASSIGN_OR_RETURN(choice.residual_payload, write_residuals(trial));
-    choice.edge_weights = std::move(trial.edge_weights);
-    choice.delta = std::move(trial.delta);
-    trials.push_back(std::move(choice));
+    DMC_ASSIGN_OR_RETURN(coding.residual_payload, write_residuals(trial));
+    coding.edge_weights = std::move(trial.edge_weights);
+    if (!best || coding.payload_bytes() < best->payload_bytes()) best = std::move(coding);
   }
-  auto bytes = [&](size_t t) {
-    return trials[t].operator_payload.size() + trials[t].residual_payload.size();
-  };
-  size_t best = 0;
-  for (size_t t = 1; t < trials.size(); ++t) {
-    if (bytes(t) < bytes(best)) best = t;
-  }
-  return std::move(trials[best]);
+  return std::move(*best);
 }
-
-// One way of coding a segment's operator and residuals.
-struct SegmentCoding {
-  format::SegmentHeader header;  // its operator and residual step
-  std::vector<uint8_t> operator_payload;
-  std::vector<uint8_t> residual_payload;
-};
 
 // Rate–distortion slope used to compare codings at slightly different distortions: a coding
 // whose STED is e^x times another's is worth kStedSlopeBits · x bits per frame and vertex. It is
@@ -265,84 +267,112 @@ Matrix SampledFrameRows(const Matrix& rows, const std::vector<int>& frames) {
 }
 
 // STED of the measured frames as the decoder rebuilds them from `syntax`, against the originals.
+// The decoder's steps, each buffer released as soon as the next step no longer needs it: the
+// deltas once solved, the operator with its factorisation, and the decoded frames allocated only
+// after the solve (the factorisation and the solve's right-hand sides are the peak).
 StatusOr<double> ReconstructedSted(const DistortionMeter& meter, const MeshTopology& topology,
-                                   const SegmentSyntax& syntax, const Eigen::VectorXd& mean,
-                                   const Eigen::MatrixXd& basis, MeshSequence& scratch) {
-  DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
-  DMC_ASSIGN_OR_RETURN(Eigen::MatrixXd coefficients,
-                       ReconstructCoefficients(topology, laplace, syntax));
+                                   SegmentSyntax& syntax, const Eigen::VectorXd& mean,
+                                   const Eigen::MatrixXd& basis, const MeshSequence& original) {
+  Eigen::MatrixXd coefficients;
+  {
+    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
+    DMC_ASSIGN_OR_RETURN(coefficients, ReconstructCoefficients(topology, laplace, syntax));
+  }
+  syntax.delta = Eigen::MatrixXd();
+  MeshSequence decoded(original.vertex_count(), original.triangles(), original.frame_count());
   DMC_RETURN_IF_ERROR(
-      SynthesizeFrames(mean, basis, coefficients, scratch.frame_count(), scratch.data()));
-  DMC_ASSIGN_OR_RETURN(const DistortionReport report, meter.Measure(scratch));
+      SynthesizeFrames(mean, basis, coefficients, decoded.frame_count(), decoded.data()));
+  coefficients = Eigen::MatrixXd();
+  DMC_ASSIGN_OR_RETURN(const DistortionReport report, meter.Measure(decoded));
   return report.sted;
+}
+
+// The fallback's other candidates for a segment whose ddl coding is done: kirchhoff, tutte and
+// mean-value, in this order, each with its residuals coded (a candidate whose residuals cannot be
+// coded, e.g. beyond the format's range at this step, is left out). Kirchhoff's rows sum to the
+// vertex degree, not 1, so its δ are about mean degree times larger: its residual step is scaled
+// by the mean degree to reach a comparable distortion. Mean-value's weights come from the
+// segment's mean shape, coded as the reference frame at reference_step. Every candidate shares
+// the ddl coding's mean, basis and anchors. This is the only step that needs the segment's
+// coefficients: the caller releases them before the candidates are measured.
+std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& ddl_header,
+                                                  const MeshTopology& topology,
+                                                  const Eigen::MatrixXd& mean_shape,
+                                                  double reference_step,
+                                                  const WriteResidualsFn& write_residuals) {
+  std::vector<SegmentCoding> candidates;
+  const double mean_degree =
+      2.0 * static_cast<double>(topology.edges.size()) / topology.vertex_count;
+  for (const auto& [id, step_scale] :
+       {std::pair{OperatorId::kKirchhoff, mean_degree}, std::pair{OperatorId::kTutte, 1.0},
+        std::pair{OperatorId::kMeanValue, 1.0}}) {
+    SegmentSyntax target;
+    target.header = ddl_header;
+    target.header.operator_id = static_cast<uint8_t>(id);
+    target.header.residual_step *= step_scale;
+    SegmentCoding coding;
+    if (id == OperatorId::kMeanValue) {
+      coding.operator_payload = syntax::WriteReferenceFrame(mean_shape, topology, reference_step,
+                                                            &target.reference_frame);
+    }
+    StatusOr<std::vector<uint8_t>> residuals = write_residuals(target);
+    if (!residuals.ok()) continue;
+    coding.header = target.header;
+    coding.residual_payload = std::move(residuals).value();
+    coding.reference_frame = std::move(target.reference_frame);
+    candidates.push_back(std::move(coding));
+  }
+  return candidates;
 }
 
 // The ddl operator's fallback. Fitted weights are side information (about 10 bits per vertex per
 // segment) that only pays when the segment is long enough; the combinatorial operators need none
-// and mean-value needs a coded reference frame (the segment's mean shape at reference_step). So
-// the segment is also coded with kirchhoff, tutte and mean-value, each decoded as the decoder
-// would and measured, and the coding with the lowest cost bits + kStedSlopeBits · V · F · ln STED
-// is kept (the DDL on ties). Kirchhoff's rows sum to the vertex degree, not 1, so its δ are about
-// mean degree times larger: its residual step is scaled by the mean degree to reach a comparable
-// distortion. The anchors, mean and basis are shared by every candidate.
-template <typename WriteResidualsFn>
+// and mean-value needs a coded reference frame. So the segment is also coded with the other
+// candidates (CodeFallbackCandidates), each decoded as the decoder would and measured, and the
+// coding with the lowest cost bits + kStedSlopeBits · V · F · ln STED is kept (the earlier on
+// ties, so the DDL first). `shared` holds what every coding shares (mean, basis, anchors and
+// their values); codings[0] is the DDL's. The residuals of one coding at a time are decoded from
+// its payload, the decoder's own values, so only one candidate's deltas and factor exist at once.
+// A coding that cannot be measured is not chosen; when the DDL's cannot, it is kept.
 SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTopology& topology,
-                                    const Eigen::MatrixXd& mean_shape, double reference_step,
-                                    const SegmentSyntax& ddl_syntax,
-                                    std::vector<uint8_t> ddl_operator_payload,
-                                    std::vector<uint8_t> ddl_residual_payload,
-                                    WriteResidualsFn write_residuals) {
-  SegmentCoding best{ddl_syntax.header, std::move(ddl_operator_payload),
-                     std::move(ddl_residual_payload)};
+                                    const std::vector<int32_t>& vertex_order, SegmentSyntax shared,
+                                    std::vector<SegmentCoding> codings) {
   const int v_count = measured.original.vertex_count();
-  const int frame_count = static_cast<int>(ddl_syntax.header.frame_count);
-  const Eigen::VectorXd measured_mean = SampledFrameRows(ddl_syntax.mean, measured.frames);
-  const Eigen::MatrixXd measured_basis = SampledFrameRows(ddl_syntax.basis, measured.frames);
+  const int frame_count = static_cast<int>(shared.header.frame_count);
+  const Eigen::VectorXd measured_mean = SampledFrameRows(shared.mean, measured.frames);
+  const Eigen::MatrixXd measured_basis = SampledFrameRows(shared.basis, measured.frames);
   StatusOr<DistortionMeter> meter = DistortionMeter::Create(measured.original);
   // No STED for this segment (e.g. an edge of length zero in every frame): keep the DDL.
-  if (!meter.ok()) return best;
-  MeshSequence decoded(v_count, measured.original.triangles(), measured.original.frame_count());
-  auto cost = [&](const SegmentSyntax& syntax, size_t payload_bytes) {
-    const StatusOr<double> sted =
-        ReconstructedSted(*meter, topology, syntax, measured_mean, measured_basis, decoded);
+  if (!meter.ok()) return std::move(codings.front());
+  auto cost = [&](SegmentCoding& coding) {
+    // The coding's operator inputs are lent to the syntax for the measurement.
+    shared.header = coding.header;
+    std::swap(shared.edge_weights, coding.edge_weights);
+    std::swap(shared.reference_frame, coding.reference_frame);
+    const Status read =
+        syntax::ReadResiduals(coding.residual_payload, topology, vertex_order, shared);
+    const StatusOr<double> sted = read.ok()
+                                      ? ReconstructedSted(*meter, topology, shared, measured_mean,
+                                                          measured_basis, measured.original)
+                                      : StatusOr<double>(read);
+    shared.delta = Eigen::MatrixXd();
+    std::swap(shared.edge_weights, coding.edge_weights);
+    std::swap(shared.reference_frame, coding.reference_frame);
     if (!sted.ok() || !std::isfinite(*sted)) return std::numeric_limits<double>::quiet_NaN();
-    return 8.0 * static_cast<double>(payload_bytes) +
+    return 8.0 * static_cast<double>(coding.payload_bytes()) +
            kStedSlopeBits * v_count * frame_count * std::log(std::max(*sted, 1e-300));
   };
-  double best_cost = cost(ddl_syntax, best.operator_payload.size() + best.residual_payload.size());
-  if (!std::isfinite(best_cost)) return best;
-
-  // One candidate at a time (each factorisation, solve and synthesis parallelises inside), so
-  // that only one candidate's deltas and factor exist at once. A candidate that cannot be coded
-  // or measured is not chosen.
-  const double mean_degree = 2.0 * static_cast<double>(topology.edges.size()) / v_count;
-  for (const auto& [id, step_scale] :
-       {std::pair{OperatorId::kKirchhoff, mean_degree}, std::pair{OperatorId::kTutte, 1.0},
-        std::pair{OperatorId::kMeanValue, 1.0}}) {
-    // Everything but the DDL's weights and deltas (write_residuals sets the deltas).
-    SegmentSyntax candidate;
-    candidate.header = ddl_syntax.header;
-    candidate.header.operator_id = static_cast<uint8_t>(id);
-    candidate.header.residual_step *= step_scale;
-    candidate.mean = ddl_syntax.mean;
-    candidate.basis = ddl_syntax.basis;
-    candidate.anchors = ddl_syntax.anchors;
-    candidate.anchor_values = ddl_syntax.anchor_values;
-    std::vector<uint8_t> operator_payload;
-    if (id == OperatorId::kMeanValue) {
-      // Its weights come from the segment's mean shape, coded as the reference frame.
-      operator_payload = syntax::WriteReferenceFrame(mean_shape, topology, reference_step,
-                                                     &candidate.reference_frame);
-    }
-    StatusOr<std::vector<uint8_t>> residuals = write_residuals(candidate);
-    if (!residuals.ok()) continue;  // e.g. a residual beyond the format's range at this step
-    const double candidate_cost = cost(candidate, operator_payload.size() + residuals->size());
+  size_t best = 0;
+  double best_cost = cost(codings[0]);
+  if (!std::isfinite(best_cost)) return std::move(codings[0]);
+  for (size_t c = 1; c < codings.size(); ++c) {
+    const double candidate_cost = cost(codings[c]);
     if (candidate_cost < best_cost) {  // false for NaN
       best_cost = candidate_cost;
-      best = {candidate.header, std::move(operator_payload), std::move(residuals).value()};
+      best = c;
     }
   }
-  return best;
+  return std::move(codings[best]);
 }
 
 struct SegmentResult {
@@ -353,8 +383,12 @@ struct SegmentResult {
 };
 
 // Encodes one segment (its trajectories, in the codec's vertex order) into `out` in closed loop:
-// every quantity after a quantiser uses the decoder's reconstruction of it. The trajectories are
-// released once projected: the operator fit and the fallback's trials run without them.
+// every quantity after a quantiser uses the decoder's reconstruction of it. Each large buffer is
+// released as soon as nothing after it needs it, so the segment's peak memory is the largest
+// single step's, not the sum of the steps': the PCA's eigenvectors once the basis is coded, the
+// trajectories once projected (the operator fit and the fallback's trials run without them), the
+// fitted operator once its weights are coded, and the coefficients once every candidate's
+// residuals are coded (the fallback measures the candidates from their payloads).
 StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
                                       const MeshTopology& topology, const Triangles& triangles,
                                       const std::vector<int32_t>& vertex_order,
@@ -363,7 +397,7 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
                                       ByteWriter& out) {
   const int v_count = static_cast<int>(trajectories.rows());
   const int frame_count = static_cast<int>(trajectories.cols() / 3);
-  const SegmentPca pca = ComputeSegmentPca(trajectories);
+  SegmentPca pca = ComputeSegmentPca(trajectories);
   SegmentSyntax syntax;
   format::SegmentHeader& h = syntax.header;
   h.first_frame = static_cast<uint32_t>(first_frame);
@@ -393,7 +427,7 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   h.anchor_weight = 1.0;
 
   std::vector<int32_t> anchors;
-  const Eigen::MatrixXd mean_shape = MeanShape(trajectories);
+  Eigen::MatrixXd mean_shape = MeanShape(trajectories);
   if (rank > 0) anchors = ChooseAnchors(mean_shape, topology, anchor_request);
   if (anchors.empty()) anchors.push_back(0);
   h.anchor_count = static_cast<uint32_t>(anchors.size());
@@ -402,16 +436,16 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   const std::vector<uint8_t> mean_payload = syntax::WriteMean(pca.mean, h, &syntax.mean);
   const std::vector<uint8_t> basis_payload =
       syntax::WriteBasis(pca.eigenvectors.leftCols(rank), h, &syntax.basis);
+  pca = SegmentPca();  // its 3F × 3F eigenvectors
   Eigen::MatrixXd coefficients(v_count, rank);
   if (rank > 0) {
     const Eigen::MatrixXd projected = ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
     const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
     coefficients = gram.ldlt().solve(projected.transpose()).transpose();
   }
+  const bool fallback = rank > 0 && operator_id == OperatorId::kDdl && options.ddl_fallback;
   std::optional<MeasuredFrames> measured;
-  if (rank > 0 && operator_id == OperatorId::kDdl && options.ddl_fallback) {
-    measured = SampleMeasuredFrames(trajectories, triangles);
-  }
+  if (fallback) measured = SampleMeasuredFrames(trajectories, triangles);
   trajectories = SegmentTrajectories();
 
   // Anchors before the operator: the DDL trials below reconstruct with them.
@@ -420,33 +454,44 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   syntax.anchors = anchors;
   std::vector<uint8_t> operator_payload;
   std::vector<uint8_t> residual_payload;
-  auto write_residuals = [&](SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
-    DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
+  // The dequantised deltas are not kept (nullptr): nothing after the coding uses them but the
+  // fallback's measurement, which decodes them from the payload.
+  const WriteResidualsFn write_residuals =
+      [&](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
+    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
     const Eigen::MatrixXd delta = laplace.matrix * coefficients;
-    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, &target.delta);
+    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr);
   };
   if (rank > 0 && operator_id == OperatorId::kDdl) {
-    OperatorOptions operator_options;
-    operator_options.ddl.mu = options.ddl_regularization;
-    DMC_ASSIGN_OR_RETURN(
-        LaplaceOperator fitted,
-        FitDdlSymmetric(topology, SourceFromTrajectories(coefficients), operator_options));
-    DMC_ASSIGN_OR_RETURN(
-        DdlChoice choice,
-        ChooseDdlWeights(fitted.weights.values, topology, options, mode, syntax, write_residuals));
-    operator_payload = std::move(choice.operator_payload);
-    residual_payload = std::move(choice.residual_payload);
-    syntax.edge_weights = std::move(choice.edge_weights);
-    syntax.delta = std::move(choice.delta);
-    if (options.ddl_fallback) {
-      SegmentCoding chosen = ChooseSegmentOperator(
-          *measured, topology, mean_shape, std::ldexp(diagonal, -options.reference_bits), syntax,
-          std::move(operator_payload), std::move(residual_payload), write_residuals);
-      h.operator_id = chosen.header.operator_id;
-      h.residual_step = chosen.header.residual_step;
-      operator_payload = std::move(chosen.operator_payload);
-      residual_payload = std::move(chosen.residual_payload);
+    SegmentCoding ddl;
+    {
+      OperatorOptions operator_options;
+      operator_options.ddl.mu = options.ddl_regularization;
+      // The coefficients are lent to the fit's source, not copied (the fit's factorisation is
+      // the encoder's peak), and taken back after it.
+      OperatorSource source = SourceFromTrajectories(std::move(coefficients));
+      StatusOr<LaplaceOperator> fit = FitDdlSymmetric(topology, source, operator_options);
+      coefficients = std::move(*source.trajectories);
+      DMC_ASSIGN_OR_RETURN(const LaplaceOperator fitted, std::move(fit));
+      DMC_ASSIGN_OR_RETURN(ddl, ChooseDdlWeights(fitted.weights.values, topology, options, mode, h,
+                                                 write_residuals));
     }
+    if (fallback) {
+      std::vector<SegmentCoding> codings;
+      codings.push_back(std::move(ddl));
+      for (SegmentCoding& candidate :
+           CodeFallbackCandidates(h, topology, mean_shape,
+                                  std::ldexp(diagonal, -options.reference_bits), write_residuals)) {
+        codings.push_back(std::move(candidate));
+      }
+      coefficients = Eigen::MatrixXd();
+      mean_shape = Eigen::MatrixXd();
+      ddl = ChooseSegmentOperator(*measured, topology, vertex_order, std::move(syntax),
+                                  std::move(codings));
+    }
+    h = ddl.header;
+    operator_payload = std::move(ddl.operator_payload);
+    residual_payload = std::move(ddl.residual_payload);
   } else {
     if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id))) {
       // The reference frame is the segment's mean shape, coded so both sides build the same
@@ -751,14 +796,16 @@ struct SegmentWork {
 };
 
 // Reads frames [first, first + count) of the source, in blocks, into a segment's trajectories.
+// The read block lives only as long as the read: kept across segments it would sit beside the
+// encode stage's buffers at their peak.
 Status ReadSegmentTrajectories(FrameSource& source, int first, int count,
-                               const std::vector<int32_t>& relabel, std::vector<float>& block,
+                               const std::vector<int32_t>& relabel,
                                SegmentTrajectories& trajectories) {
   const int v_count = source.vertex_count();
   const size_t per_frame = static_cast<size_t>(v_count) * 3;
   const int frames_per_read = FramesPerRead(v_count, count);
   trajectories.resize(v_count, 3 * static_cast<Eigen::Index>(count));
-  block.resize(per_frame * static_cast<size_t>(frames_per_read));
+  std::vector<float> block(per_frame * static_cast<size_t>(frames_per_read));
   for (int done = 0; done < count; done += frames_per_read) {
     const int frames = std::min(frames_per_read, count - done);
     DMC_RETURN_IF_ERROR(source.ReadFrames(first + done, frames, block.data()));
@@ -976,7 +1023,6 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
   Status failure = Status::Ok();
   std::atomic<bool> failed{false};
   int next_segment = 0;
-  std::vector<float> read_block;
   tbb::parallel_pipeline(
       static_cast<size_t>(streaming.segments_in_flight),
       tbb::make_filter<void, std::shared_ptr<SegmentWork>>(
@@ -988,9 +1034,9 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
             }
             auto work = std::make_shared<SegmentWork>();
             work->index = next_segment++;
-            work->read = ReadSegmentTrajectories(
-                source, plan.segment_first[work->index], plan.segment_frames(work->index),
-                connectivity.vertex_order, read_block, work->trajectories);
+            work->read = ReadSegmentTrajectories(source, plan.segment_first[work->index],
+                                                 plan.segment_frames(work->index),
+                                                 connectivity.vertex_order, work->trajectories);
             return work;
           }) &
           tbb::make_filter<std::shared_ptr<SegmentWork>, std::shared_ptr<SegmentWork>>(

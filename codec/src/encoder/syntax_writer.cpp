@@ -206,7 +206,7 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
                                               Eigen::MatrixXd* decoded) {
   const int v_count = topology.vertex_count;
   const int rank = static_cast<int>(header.rank);
-  decoded->resize(v_count, rank);
+  if (decoded) decoded->resize(v_count, rank);
   if (rank == 0) return std::vector<uint8_t>();
   RangeEncoder encoder;
   auto contexts = std::make_unique<format::ResidualContexts>();
@@ -229,7 +229,7 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
       encoder.EncodeSigned(
           contexts->sets[group][format::ResidualNeighbourBucket(topology, position, q, v, i)],
           q[v]);
-      (*decoded)(v, k) = static_cast<double>(q[v]) * header.residual_step;
+      if (decoded) (*decoded)(v, k) = static_cast<double>(q[v]) * header.residual_step;
     }
   }
   return encoder.Finish();

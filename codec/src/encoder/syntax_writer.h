@@ -55,9 +55,11 @@ std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
                                   Eigen::MatrixXd* decoded_values);
 
 // Quantises delta-trajectories (V×r) with header.residual_step and codes them column by column
-// in `vertex_order`; returns the dequantised deltas. kUnsupported when a quantised residual would
-// exceed format::kMaxResidualMagnitude steps (an operator that amplifies near-degenerate geometry
-// enormously, with a very fine step), since no decoder would accept the stream.
+// in `vertex_order`; stores the dequantised deltas in `decoded` unless it is null (the decoder's
+// values: ReadResiduals on the payload gives the same matrix). kUnsupported when a quantised
+// residual would exceed format::kMaxResidualMagnitude steps (an operator that amplifies
+// near-degenerate geometry enormously, with a very fine step), since no decoder would accept the
+// stream.
 StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
                                               const MeshTopology& topology,
                                               const std::vector<int32_t>& vertex_order,
