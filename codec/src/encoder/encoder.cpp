@@ -1001,8 +1001,9 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
 
   const double diagonal = std::max(box.diagonal(), 1e-12);
   DMC_ASSIGN_OR_RETURN(const StreamPlan plan, PlanStream(frames, diagonal, options));
-  const MeshTopology topology = BuildTopology(connectivity.triangles, v_count);
-  const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
+  // Released after the segments are coded: the measurement's decoder builds its own.
+  MeshTopology topology = BuildTopology(connectivity.triangles, v_count);
+  std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
   EncodeReport local;
   EncodeReport& out = report ? *report : local;
   out = EncodeReport();
@@ -1067,6 +1068,8 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                 progress(EncodeStage::kEncode, plan.segment_first[work->index + 1]);
               }));
   DMC_RETURN_IF_ERROR(failure);
+  topology = MeshTopology();
+  vertex_order = {};
   DMC_RETURN_IF_ERROR(write(StreamEnd(plan, totals)));
   FillRateReport(plan, v_count, file.size(), totals, out);
 

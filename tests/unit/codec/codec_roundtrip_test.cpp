@@ -249,6 +249,44 @@ TEST(Codec, DdlWeightCoderRoundTripsAndKeepsRowsTranslationInvariant) {
   EXPECT_LT(row_sums.cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The DDL fallback keeps no dequantised deltas: it measures each candidate with the deltas the
+// decoder reads back from the residual payload. That is only the encoder's closed loop if the
+// reader returns exactly (bit for bit) what the writer dequantised, and the payload must not depend
+// on whether the writer stores them.
+TEST(Codec, ResidualReaderReturnsTheWritersDequantisedDeltasExactly) {
+  const MeshSequence mesh = WobblingSphere(8, 12, 1);
+  const MeshTopology topology = BuildTopology(mesh.triangles(), mesh.vertex_count());
+  const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
+  constexpr int kRank = 4;
+  format::SegmentHeader header;
+  header.rank = kRank;
+  header.residual_step = 0.01;
+  Eigen::MatrixXd delta(mesh.vertex_count(), kRank);
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    for (int k = 0; k < kRank; ++k) {
+      // Residuals from -11 to +11 steps, off the grid by up to 0.3 steps in either direction.
+      delta(v, k) = 0.01 * ((v * 7 + k * 3) % 23 - 11) + 0.001 * ((v + k) % 7 - 3);
+    }
+  }
+  Eigen::MatrixXd written;
+  const auto payload = syntax::WriteResiduals(delta, topology, vertex_order, header, &written);
+  ASSERT_TRUE(payload.ok()) << payload.status().ToString();
+  const auto without_output =
+      syntax::WriteResiduals(delta, topology, vertex_order, header, nullptr);
+  ASSERT_TRUE(without_output.ok());
+  EXPECT_EQ(*without_output, *payload);
+  // Hand-computed: vertex 0, component 0 is -11 steps - 0.3 steps -> -11 · 0.01; vertex 5,
+  // component 1 is (38 % 23 - 11) = 4 steps + 0.3 steps (6 % 7 - 3 = 3 thousandths) -> 4 · 0.01.
+  EXPECT_EQ(written(0, 0), -11 * 0.01);
+  EXPECT_EQ(written(5, 1), 4 * 0.01);
+  SegmentSyntax syntax;
+  syntax.header = header;
+  ASSERT_TRUE(syntax::ReadResiduals(*payload, topology, vertex_order, syntax).ok());
+  ASSERT_EQ(syntax.delta.rows(), written.rows());
+  ASSERT_EQ(syntax.delta.cols(), written.cols());
+  EXPECT_TRUE((syntax.delta.array() == written.array()).all());
+}
+
 // The encoder's comparison of codings (encoder.cpp, kStedSlopeBits): bits + 0.5 · V · F · ln STED.
 double RateDistortionCost(const EncodeReport& report) {
   return 8.0 * static_cast<double>(report.bytes) +
