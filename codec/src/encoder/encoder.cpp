@@ -1079,7 +1079,7 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
     Decoder decoder;
     DMC_RETURN_IF_ERROR(decoder.Open(stream).WithContext("decoding the encoded stream"));
     const std::vector<int32_t>& relabel = connectivity.vertex_order;
-    std::vector<float> decoded, restored, original;
+    std::vector<float> decoded, frame_copy, original;
     const int frames_per_read = FramesPerRead(v_count, plan.frames);
     for (int s = 0; s < plan.segments(); ++s) {
       const int first = plan.segment_first[s], count = plan.segment_frames(s);
@@ -1088,16 +1088,17 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
         return decoded.data();
       }));
       if (!relabel.empty()) {
-        restored.resize(decoded.size());
+        // Back to input labels in place, one frame at a time through a copy of that frame: a
+        // second segment-sized buffer would be the measurement's largest.
+        frame_copy.resize(per_frame);
         for (size_t f = 0; f < static_cast<size_t>(count); ++f) {
-          const float* from = decoded.data() + f * per_frame;
-          float* to = restored.data() + f * per_frame;
+          float* frame = decoded.data() + f * per_frame;
+          std::copy_n(frame, per_frame, frame_copy.data());
           for (int v = 0; v < v_count; ++v) {
-            std::copy_n(from + 3 * static_cast<size_t>(v), 3,
-                        to + 3 * static_cast<size_t>(relabel[v]));
+            std::copy_n(frame_copy.data() + 3 * static_cast<size_t>(v), 3,
+                        frame + 3 * static_cast<size_t>(relabel[v]));
           }
         }
-        decoded.swap(restored);
       }
       // The meter takes any consecutive frame ranges: the segment goes in read-sized blocks, so
       // the original frames in memory are one block and its speed window, not a whole segment.
