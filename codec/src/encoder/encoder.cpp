@@ -437,11 +437,18 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   const std::vector<uint8_t> basis_payload =
       syntax::WriteBasis(pca.eigenvectors.leftCols(rank), h, &syntax.basis);
   pca = SegmentPca();  // its 3F × 3F eigenvectors
-  Eigen::MatrixXd coefficients(v_count, rank);
+  Eigen::MatrixXd coefficients(v_count, 0);
   if (rank > 0) {
-    const Eigen::MatrixXd projected = ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
-    const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
-    coefficients = gram.ldlt().solve(projected.transpose()).transpose();
+    // Solved as r × V, then transposed once the projection is released: two V × r buffers at a
+    // time, not three (the same values as solving and transposing in one expression).
+    Eigen::MatrixXd solved;
+    {
+      const Eigen::MatrixXd projected =
+          ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
+      const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
+      solved = gram.ldlt().solve(projected.transpose());
+    }
+    coefficients = solved.transpose();
   }
   const bool fallback = rank > 0 && operator_id == OperatorId::kDdl && options.ddl_fallback;
   std::optional<MeasuredFrames> measured;
