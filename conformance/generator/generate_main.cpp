@@ -136,6 +136,7 @@ Json OptionsJson(const EncoderOptions& o) {
           {"ddl_regularization", o.ddl_regularization},
           {"weight_prediction_uniform", o.weight_prediction_uniform},
           {"ddl_fallback", o.ddl_fallback},
+          {"rank_search", o.rank_search},
           {"allow_reorder", o.allow_reorder},
           {"reference_bits", o.reference_bits}};
 }

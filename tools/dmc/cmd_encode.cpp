@@ -26,6 +26,7 @@ struct EncodeArgs {
   GltfReadFlags gltf;
   bool no_measure = false;
   bool no_ddl_fallback = false;
+  bool no_rank_search = false;
   bool json = false;
   bool progress = false;
 };
@@ -93,6 +94,7 @@ int RunEncode(const EncodeArgs& args) {
   EncoderOptions options = args.options;
   options.measure = !args.no_measure;
   options.ddl_fallback = !args.no_ddl_fallback;
+  options.rank_search = !args.no_rank_search;
   EncodeReport report;
   const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);
@@ -194,6 +196,9 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_flag("--no-ddl-fallback", args->no_ddl_fallback,
                 "ddl: always code the fitted weights, never kirchhoff, tutte or mean-value for a "
                 "segment where they have the lower rate at equal STED");
+  app->add_flag("--no-rank-search", args->no_rank_search,
+                "ddl with an automatic rank: code each segment at the rank of --rank-threshold "
+                "only, not also at the lower ranks of 2 and 4 times it");
   app->add_flag("--uniform-weight-prediction", o.weight_prediction_uniform,
                 "DDL weights predicted by the thesis's uniform share, not the degree reference");
   app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");

@@ -52,6 +52,10 @@ struct EncoderOptions {
   // short segments rarely pay for fitted weights. The stream names each segment's operator.
   // false = always the fitted DDL weights.
   bool ddl_fallback = true;
+  // With the ddl operator's fallback and an automatic rank: each segment is also coded at the
+  // ranks of 2 and 4 times rank_threshold (when they are lower), and the rank with the lowest
+  // bits + 0.5 · V · F · ln STED is kept. false = the rank of rank_threshold alone.
+  bool rank_search = true;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
   bool weight_prediction_uniform = false;

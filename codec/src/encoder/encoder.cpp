@@ -181,6 +181,8 @@ struct SegmentCoding {
   std::vector<uint8_t> residual_payload;
   std::vector<int64_t> edge_weights;  // ddl: the coded weights
   FramePositionsD reference_frame;    // geometric operators: the decoded reference frame
+  // The fallback's measurement of it (STED of the sampled frames); NaN when not measured.
+  double sted = std::numeric_limits<double>::quiet_NaN();
 
   size_t payload_bytes() const { return operator_payload.size() + residual_payload.size(); }
 };
@@ -359,6 +361,7 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
     std::swap(shared.edge_weights, coding.edge_weights);
     std::swap(shared.reference_frame, coding.reference_frame);
     if (!sted.ok() || !std::isfinite(*sted)) return std::numeric_limits<double>::quiet_NaN();
+    coding.sted = *sted;
     return 8.0 * static_cast<double>(coding.payload_bytes()) +
            kStedSlopeBits * v_count * frame_count * std::log(std::max(*sted, 1e-300));
   };
@@ -382,6 +385,20 @@ struct SegmentResult {
   int anchors = 0;
 };
 
+// The automatic rank's candidates, as multiples of EncoderOptions::rank_threshold. Fewer
+// components are often the better trade: on crane (16 frames) at 10 residual bits, rank 3
+// instead of 4 gave 3 % fewer bits and a lower STED, since the fourth component's quantisation
+// error outweighed what it captured. With EncoderOptions::rank_search the segment is coded at the
+// rank of each threshold (distinct ranks only) and the cheapest coding is kept (RD.md,
+// "Session 5").
+constexpr double kRankThresholdScales[] = {1.0, 2.0, 4.0};
+// Ranks are compared by bits · STED^kRankStedElasticity, lowest wins. The encode ladders of samba,
+// crane and horse-gallop follow bits ∝ STED^-0.8 closely (the local slope of bpfv against ln STED
+// is about 0.8 × bpfv, from 0.2 to 1.8 bpfv), so the product is constant along a ladder and a
+// rank that lowers it lies below the ladder. The operator choice's fixed slope (kStedSlopeBits)
+// under-weights STED at high rates: choosing ranks with it cost horse-gallop 2.9 % at STED 0.03.
+constexpr double kRankStedElasticity = 0.8;
+
 // Encodes one segment (its trajectories, in the codec's vertex order) into `out` in closed loop:
 // every quantity after a quantiser uses the decoder's reconstruction of it. Each large buffer is
 // released as soon as nothing after it needs it, so the segment's peak memory is the largest
@@ -398,18 +415,28 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   const int v_count = static_cast<int>(trajectories.rows());
   const int frame_count = static_cast<int>(trajectories.cols() / 3);
   SegmentPca pca = ComputeSegmentPca(trajectories);
-  SegmentSyntax syntax;
-  format::SegmentHeader& h = syntax.header;
+  format::SegmentHeader h;
   h.first_frame = static_cast<uint32_t>(first_frame);
   h.frame_count = static_cast<uint32_t>(frame_count);
   const int max_rank = std::min<int>(3 * frame_count, std::max(v_count - 1, 0));
-  int rank = options.rank;
-  if (rank == 0) {
-    const double threshold = options.rank_threshold * v_count * residual_step * residual_step;
-    while (rank < max_rank && pca.eigenvalues[rank] > threshold) ++rank;
+  // The ranks to code the segment at, highest first (the plain threshold's): with an automatic
+  // rank and the ddl operator's fallback, also the distinct lower ranks of the larger thresholds.
+  const bool rank_search = options.rank == 0 && operator_id == OperatorId::kDdl &&
+                           options.ddl_fallback && options.rank_search;
+  std::vector<int> ranks;
+  if (options.rank == 0) {
+    for (const double scale : kRankThresholdScales) {
+      const double threshold =
+          scale * options.rank_threshold * v_count * residual_step * residual_step;
+      int rank = 0;
+      while (rank < max_rank && pca.eigenvalues[rank] > threshold) ++rank;
+      if (ranks.empty() || (rank < ranks.back() && rank > 0)) ranks.push_back(rank);
+      if (!rank_search) break;
+    }
+  } else {
+    ranks.push_back(std::min(options.rank, max_rank));
   }
-  rank = std::min(rank, max_rank);
-  h.rank = static_cast<uint32_t>(rank);
+  const int top_rank = ranks.front();
   h.operator_id = static_cast<uint8_t>(operator_id);
   h.basis_bits = static_cast<uint8_t>(options.basis_bits);
   h.weight_bits = static_cast<uint8_t>(options.weight_bits);
@@ -428,98 +455,146 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
 
   std::vector<int32_t> anchors;
   Eigen::MatrixXd mean_shape = MeanShape(trajectories);
-  if (rank > 0) anchors = ChooseAnchors(mean_shape, topology, anchor_request);
+  if (top_rank > 0) anchors = ChooseAnchors(mean_shape, topology, anchor_request);
   if (anchors.empty()) anchors.push_back(0);
   h.anchor_count = static_cast<uint32_t>(anchors.size());
 
-  // Mean and basis first: the coefficients are computed against their decoded values.
+  // Mean and basis first: the coefficients are computed against their decoded values. A basis
+  // column is quantised on its own, so a lower rank's decoded basis is the first columns of the
+  // top rank's, and one projection serves every rank.
+  SegmentSyntax syntax;
+  syntax.header = h;
+  syntax.header.rank = static_cast<uint32_t>(top_rank);
   const std::vector<uint8_t> mean_payload = syntax::WriteMean(pca.mean, h, &syntax.mean);
-  const std::vector<uint8_t> basis_payload =
-      syntax::WriteBasis(pca.eigenvectors.leftCols(rank), h, &syntax.basis);
-  pca = SegmentPca();  // its 3F × 3F eigenvectors
-  Eigen::MatrixXd coefficients(v_count, 0);
-  if (rank > 0) {
-    // Solved as r × V, then transposed once the projection is released: two V × r buffers at a
-    // time, not three (the same values as solving and transposing in one expression).
-    Eigen::MatrixXd solved;
-    {
-      const Eigen::MatrixXd projected =
-          ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
-      const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
-      solved = gram.ldlt().solve(projected.transpose());
-    }
-    coefficients = solved.transpose();
-  }
-  const bool fallback = rank > 0 && operator_id == OperatorId::kDdl && options.ddl_fallback;
+  std::vector<uint8_t> top_basis_payload =
+      syntax::WriteBasis(pca.eigenvectors.leftCols(top_rank), syntax.header, &syntax.basis);
+  Eigen::MatrixXd eigenvectors;  // kept only for the lower ranks' bases
+  if (ranks.size() > 1) eigenvectors = pca.eigenvectors.leftCols(top_rank);
+  pca = SegmentPca();         // its 3F × 3F eigenvectors
+  Eigen::MatrixXd projected;  // V × top rank, kept only while a lower rank is still to be coded
+  if (top_rank > 0) projected = ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
+  const bool fallback = top_rank > 0 && operator_id == OperatorId::kDdl && options.ddl_fallback;
   std::optional<MeasuredFrames> measured;
   if (fallback) measured = SampleMeasuredFrames(trajectories, triangles);
   trajectories = SegmentTrajectories();
+  const Eigen::MatrixXd top_basis = syntax.basis;
 
-  // Anchors before the operator: the DDL trials below reconstruct with them.
-  const std::vector<uint8_t> anchor_payload =
-      syntax::WriteAnchors(anchors, coefficients, h, &syntax.anchor_values);
-  syntax.anchors = anchors;
-  std::vector<uint8_t> operator_payload;
-  std::vector<uint8_t> residual_payload;
-  // The dequantised deltas are not kept (nullptr): nothing after the coding uses them but the
-  // fallback's measurement, which decodes them from the payload.
-  const WriteResidualsFn write_residuals =
-      [&](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
-    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
-    const Eigen::MatrixXd delta = laplace.matrix * coefficients;
-    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr);
+  // The segment coded at one rank (its last use of the projection when `last`): everything that
+  // depends on the rank, and bits · STED^kRankStedElasticity when the fallback measured it.
+  struct RankCoding {
+    format::SegmentHeader header;
+    std::vector<uint8_t> basis_payload, anchor_payload, operator_payload, residual_payload;
+    double cost = std::numeric_limits<double>::quiet_NaN();
   };
-  if (rank > 0 && operator_id == OperatorId::kDdl) {
-    SegmentCoding ddl;
-    {
-      OperatorOptions operator_options;
-      operator_options.ddl.mu = options.ddl_regularization;
-      // The coefficients are lent to the fit's source, not copied (the fit's factorisation is
-      // the encoder's peak), and taken back after it.
-      OperatorSource source = SourceFromTrajectories(std::move(coefficients));
-      StatusOr<LaplaceOperator> fit = FitDdlSymmetric(topology, source, operator_options);
-      coefficients = std::move(*source.trajectories);
-      DMC_ASSIGN_OR_RETURN(const LaplaceOperator fitted, std::move(fit));
-      DMC_ASSIGN_OR_RETURN(ddl, ChooseDdlWeights(fitted.weights.values, topology, options, mode, h,
-                                                 write_residuals));
+  auto code_at_rank = [&](int rank, bool last) -> StatusOr<RankCoding> {
+    RankCoding coding;
+    syntax.header = h;
+    syntax.header.rank = static_cast<uint32_t>(rank);
+    if (rank == top_rank) {
+      coding.basis_payload = top_basis_payload;
+      syntax.basis = top_basis;
+    } else {
+      coding.basis_payload =
+          syntax::WriteBasis(eigenvectors.leftCols(rank), syntax.header, &syntax.basis);
     }
-    if (fallback) {
-      std::vector<SegmentCoding> codings;
-      codings.push_back(std::move(ddl));
-      for (SegmentCoding& candidate :
-           CodeFallbackCandidates(h, topology, mean_shape,
-                                  std::ldexp(diagonal, -options.reference_bits), write_residuals)) {
-        codings.push_back(std::move(candidate));
-      }
-      coefficients = Eigen::MatrixXd();
-      mean_shape = Eigen::MatrixXd();
-      ddl = ChooseSegmentOperator(*measured, topology, vertex_order, std::move(syntax),
-                                  std::move(codings));
-    }
-    h = ddl.header;
-    operator_payload = std::move(ddl.operator_payload);
-    residual_payload = std::move(ddl.residual_payload);
-  } else {
-    if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id))) {
-      // The reference frame is the segment's mean shape, coded so both sides build the same
-      // geometric operator from it.
-      operator_payload = syntax::WriteReferenceFrame(mean_shape, topology,
-                                                     std::ldexp(diagonal, -options.reference_bits),
-                                                     &syntax.reference_frame);
-    } else if (operator_id == OperatorId::kDdl) {
-      // Rank 0: nothing to reconstruct; send the predicted weights (all residuals zero).
-      const std::vector<double> unused(topology.edges.size(), 0.0);
-      operator_payload =
-          syntax::WriteDdlWeights(unused, topology, options.weight_bits, mode, &syntax.edge_weights,
-                                  std::numeric_limits<double>::infinity());
-    }
+    Eigen::MatrixXd coefficients(v_count, 0);
     if (rank > 0) {
-      DMC_ASSIGN_OR_RETURN(residual_payload, write_residuals(syntax));
+      // Solved as r × V, then transposed once the projection is released (on the last rank):
+      // two V × r buffers at a time, not three (the same values as solving and transposing in
+      // one expression).
+      const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
+      Eigen::MatrixXd solved = gram.ldlt().solve(projected.leftCols(rank).transpose());
+      if (last) projected = Eigen::MatrixXd();
+      coefficients = solved.transpose();
     }
+    // Anchors before the operator: the DDL trials below reconstruct with them.
+    coding.anchor_payload =
+        syntax::WriteAnchors(anchors, coefficients, syntax.header, &syntax.anchor_values);
+    syntax.anchors = anchors;
+    // The dequantised deltas are not kept (nullptr): nothing after the coding uses them but the
+    // fallback's measurement, which decodes them from the payload.
+    const WriteResidualsFn write_residuals =
+        [&](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
+      DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
+      const Eigen::MatrixXd delta = laplace.matrix * coefficients;
+      return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr);
+    };
+    format::SegmentHeader& header = syntax.header;
+    if (rank > 0 && operator_id == OperatorId::kDdl) {
+      SegmentCoding ddl;
+      {
+        OperatorOptions operator_options;
+        operator_options.ddl.mu = options.ddl_regularization;
+        // The coefficients are lent to the fit's source, not copied (the fit's factorisation is
+        // the encoder's peak), and taken back after it.
+        OperatorSource source = SourceFromTrajectories(std::move(coefficients));
+        StatusOr<LaplaceOperator> fit = FitDdlSymmetric(topology, source, operator_options);
+        coefficients = std::move(*source.trajectories);
+        DMC_ASSIGN_OR_RETURN(const LaplaceOperator fitted, std::move(fit));
+        DMC_ASSIGN_OR_RETURN(ddl, ChooseDdlWeights(fitted.weights.values, topology, options, mode,
+                                                   header, write_residuals));
+      }
+      if (fallback) {
+        std::vector<SegmentCoding> codings;
+        codings.push_back(std::move(ddl));
+        for (SegmentCoding& candidate : CodeFallbackCandidates(
+                 header, topology, mean_shape, std::ldexp(diagonal, -options.reference_bits),
+                 write_residuals)) {
+          codings.push_back(std::move(candidate));
+        }
+        coefficients = Eigen::MatrixXd();
+        if (last) mean_shape = Eigen::MatrixXd();
+        // The measurement takes the syntax (mean, basis, anchors) and gives nothing back.
+        SegmentSyntax shared;
+        shared.header = syntax.header;
+        shared.mean = syntax.mean;
+        shared.basis = syntax.basis;
+        shared.anchors = syntax.anchors;
+        shared.anchor_values = syntax.anchor_values;
+        ddl = ChooseSegmentOperator(*measured, topology, vertex_order, std::move(shared),
+                                    std::move(codings));
+      }
+      coding.header = ddl.header;
+      coding.operator_payload = std::move(ddl.operator_payload);
+      coding.residual_payload = std::move(ddl.residual_payload);
+      const size_t bytes = mean_payload.size() + coding.basis_payload.size() +
+                           coding.anchor_payload.size() + coding.operator_payload.size() +
+                           coding.residual_payload.size();
+      coding.cost =
+          std::log(8.0 * static_cast<double>(bytes)) + kRankStedElasticity * std::log(ddl.sted);
+    } else {
+      if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id))) {
+        // The reference frame is the segment's mean shape, coded so both sides build the same
+        // geometric operator from it.
+        coding.operator_payload = syntax::WriteReferenceFrame(
+            mean_shape, topology, std::ldexp(diagonal, -options.reference_bits),
+            &syntax.reference_frame);
+      } else if (operator_id == OperatorId::kDdl) {
+        // Rank 0: nothing to reconstruct; send the predicted weights (all residuals zero).
+        const std::vector<double> unused(topology.edges.size(), 0.0);
+        coding.operator_payload =
+            syntax::WriteDdlWeights(unused, topology, options.weight_bits, mode,
+                                    &syntax.edge_weights, std::numeric_limits<double>::infinity());
+      }
+      if (rank > 0) {
+        DMC_ASSIGN_OR_RETURN(coding.residual_payload, write_residuals(syntax));
+      }
+      coding.header = header;
+    }
+    return coding;
+  };
+
+  // One rank at a time, keeping only the cheapest coding: the top rank's when the costs are not
+  // measured, the higher rank on ties.
+  DMC_ASSIGN_OR_RETURN(RankCoding best, code_at_rank(top_rank, ranks.size() == 1));
+  for (size_t c = 1; c < ranks.size(); ++c) {
+    StatusOr<RankCoding> candidate = code_at_rank(ranks[c], c + 1 == ranks.size());
+    if (candidate.ok() && candidate->cost < best.cost) best = std::move(candidate).value();
   }
+  h = best.header;
 
   SegmentResult result;
-  result.rank = rank;
+  result.rank = static_cast<int>(h.rank);
   result.anchors = static_cast<int>(anchors.size());
   result.operator_id = static_cast<OperatorId>(h.operator_id);
   auto append = [&](format::ChunkType type, const std::vector<uint8_t>& payload, uint64_t* size) {
@@ -529,10 +604,10 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   };
   append(format::ChunkType::kSegmentHeader, syntax::WriteSegmentHeader(h), &result.sizes.header);
   append(format::ChunkType::kMean, mean_payload, &result.sizes.mean);
-  append(format::ChunkType::kBasis, basis_payload, &result.sizes.basis);
-  append(format::ChunkType::kOperator, operator_payload, &result.sizes.operator_info);
-  append(format::ChunkType::kAnchors, anchor_payload, &result.sizes.anchors);
-  append(format::ChunkType::kResiduals, residual_payload, &result.sizes.residuals);
+  append(format::ChunkType::kBasis, best.basis_payload, &result.sizes.basis);
+  append(format::ChunkType::kOperator, best.operator_payload, &result.sizes.operator_info);
+  append(format::ChunkType::kAnchors, best.anchor_payload, &result.sizes.anchors);
+  append(format::ChunkType::kResiduals, best.residual_payload, &result.sizes.residuals);
   return result;
 }
 
