@@ -181,6 +181,9 @@ Args:
     ddl_fallback: with operator ddl, code a segment with kirchhoff, tutte or mean-value instead
         when that has the lower rate at equal STED (report["segment_operators"] names each
         segment's choice); False = always the fitted DDL weights.
+    rank_search: with operator ddl, its fallback and an automatic rank, also code each segment
+        at the lower ranks of 2 and 4 times rank_threshold and keep the one with the lowest
+        bits * STED^0.8; False = the rank of rank_threshold alone.
     uniform_weight_prediction: predict DDL weights by the uniform share instead of the degree
         reference.
     target_bpfv: > 0: search the residual step for this rate (bits per frame and vertex).
@@ -243,9 +246,9 @@ void RegisterCodec(py::module_& module) {
       [](const py::handle& frames, const py::handle& faces, const std::string& operator_name,
          int rank, double rank_threshold, int basis_bits, int residual_bits, double residual_step,
          int anchors, double anchor_step_ratio, int segment_frames, int reference_bits,
-         int weight_bits, double ddl_mu, bool ddl_fallback, bool uniform_weight_prediction,
-         double target_bpfv, double target_sted, bool allow_reorder, const std::string& name,
-         double frame_rate, bool return_report, bool measure) {
+         int weight_bits, double ddl_mu, bool ddl_fallback, bool rank_search,
+         bool uniform_weight_prediction, double target_bpfv, double target_sted, bool allow_reorder,
+         const std::string& name, double frame_rate, bool return_report, bool measure) {
         EncoderOptions options;
         options.operator_name = operator_name;
         options.rank = rank;
@@ -260,6 +263,7 @@ void RegisterCodec(py::module_& module) {
         options.weight_bits = weight_bits;
         options.ddl_regularization = ddl_mu;
         options.ddl_fallback = ddl_fallback;
+        options.rank_search = rank_search;
         options.weight_prediction_uniform = uniform_weight_prediction;
         options.target_bpfv = target_bpfv;
         options.target_sted = target_sted;
@@ -279,6 +283,7 @@ void RegisterCodec(py::module_& module) {
       py::arg("weight_bits") = defaults.weight_bits,
       py::arg("ddl_mu") = defaults.ddl_regularization,
       py::arg("ddl_fallback") = defaults.ddl_fallback,
+      py::arg("rank_search") = defaults.rank_search,
       py::arg("uniform_weight_prediction") = defaults.weight_prediction_uniform,
       py::arg("target_bpfv") = defaults.target_bpfv, py::arg("target_sted") = defaults.target_sted,
       py::arg("allow_reorder") = defaults.allow_reorder, py::arg("name") = "",
