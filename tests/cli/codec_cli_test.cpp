@@ -44,6 +44,25 @@ TEST_F(CodecCli, DdlFallbackCanBeTurnedOffAndIsReported) {
   EXPECT_NE(text.out.find("operator ddl (segments: "), std::string::npos) << text.out;
 }
 
+// --no-rank-search keeps the rank of --rank-threshold; by default the encoder also tries the lower
+// ranks of larger thresholds and, on this blob at 10 bits, keeps a lower one that costs fewer
+// bytes at a lower STED.
+TEST_F(CodecCli, RankSearchCanBeTurnedOff) {
+  const auto input = dir_ / "blob16.pc2";
+  ASSERT_EQ(RunDmc("synth blob -o " + Quoted(input) + " --frames 16 --resolution 1500").exit_code,
+            0);
+  const std::string encode =
+      "encode " + Quoted(input) + " -o " + Quoted(dir_ / "b.dmc") + " --residual-bits 10 --json";
+  const CliResult searched = RunDmc(encode);
+  ASSERT_EQ(searched.exit_code, 0) << searched.err;
+  const CliResult plain = RunDmc(encode + " --no-rank-search");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const auto with = nlohmann::json::parse(searched.out), without = nlohmann::json::parse(plain.out);
+  EXPECT_LT(with["rank"].get<int>(), without["rank"].get<int>());
+  EXPECT_LT(with["bytes"].get<uint64_t>(), without["bytes"].get<uint64_t>());
+  EXPECT_LT(with["sted"].get<double>(), without["sted"].get<double>());
+}
+
 TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
   const auto stream = dir_ / "blob.dmc";
   const CliResult encoded =
