@@ -49,4 +49,38 @@ ScopedSingleThreadedBlas::~ScopedSingleThreadedBlas() {
   if (--live_guards == 0 && saved_threads != 1) controls.set(saved_threads);
 }
 
+namespace {
+
+using SetLevels = void (*)(int);
+using GetLevels = int (*)();
+
+struct OpenMpControls {
+  SetLevels set = nullptr;
+  GetLevels get = nullptr;
+};
+
+const OpenMpControls& OpenMp() {
+  static const OpenMpControls controls = [] {
+    OpenMpControls found;
+    found.set = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+    found.get = reinterpret_cast<GetLevels>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+    if (found.set == nullptr || found.get == nullptr) found = OpenMpControls();
+    return found;
+  }();
+  return controls;
+}
+
+}  // namespace
+
+ScopedSerialOpenMp::ScopedSerialOpenMp() {
+  const OpenMpControls& controls = OpenMp();
+  if (controls.set == nullptr) return;
+  saved_levels_ = controls.get();
+  if (saved_levels_ != 0) controls.set(0);
+}
+
+ScopedSerialOpenMp::~ScopedSerialOpenMp() {
+  if (saved_levels_ > 0) OpenMp().set(saved_levels_);
+}
+
 }  // namespace dmc

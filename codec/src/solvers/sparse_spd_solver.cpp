@@ -189,6 +189,7 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
   const std::string what = "factoring the " + SizeText(matrix) + " normal matrix";
   if (impl->backend == SolverBackend::kCholmod) {
     ScopedSingleThreadedBlas single_threaded_blas;
+    ScopedSerialOpenMp serial_open_mp;
     const int ordering = CholmodOrdering(options.ordering, matrix.rows());
     impl->cholmod = std::make_unique<CholmodLlt>(ordering);
     AnalyzePattern(*impl->cholmod, impl->matrix, ordering);
@@ -252,6 +253,7 @@ StatusOr<Eigen::MatrixXd> SparseSpdSolver::Solve(const Eigen::MatrixXd& rhs) con
     BlockCheck& check = checks[static_cast<size_t>(block)];
     if (impl_->cholmod) {
       ScopedSingleThreadedBlas single_threaded_blas;
+      ScopedSerialOpenMp serial_open_mp;
       check.solved = SolveColumnBlock(impl_->cholmod->factor(), rhs, first, count, solution);
       if (!check.solved) return;
     }
