@@ -3,11 +3,13 @@
 // (pattern and every value), the parallel, column-blocked sparse solve against one CHOLMOD solve
 // of all columns, and the frame synthesis against the plain blockwise product + mean +
 // conversion it replaced.
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/CholmodSupport>
 #include <cstdint>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 #include "decoder/segment_reconstruction.h"
@@ -196,6 +198,23 @@ TEST(DecoderFastPaths, SynthesisAtTheTargetShapeEqualsTheEigenProduct) {
     }
   }
   EXPECT_EQ(differing, 0u);
+}
+
+// The serial-OpenMP guard sets the calling thread's max-active-levels to 0 and restores it, and
+// leaves other threads' alone (CHOLMOD's regions opened elsewhere keep their threads).
+TEST(DecoderFastPaths, SerialOpenMpGuardIsPerThreadAndRestores) {
+  using GetLevels = int (*)();
+  const auto get = reinterpret_cast<GetLevels>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  if (get == nullptr) GTEST_SKIP() << "no OpenMP runtime in the process";
+  const int before = get();
+  int other_thread = -1;
+  {
+    ScopedSerialOpenMp guard;
+    EXPECT_EQ(get(), 0);
+    std::thread([&] { other_thread = get(); }).join();
+  }
+  EXPECT_EQ(get(), before);
+  EXPECT_EQ(other_thread, before);  // a new thread starts from the initial value, untouched
 }
 
 TEST(DecoderFastPaths, SynthesisRejectsPositionsBeyondFloat) {
