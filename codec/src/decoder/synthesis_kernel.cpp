@@ -1,10 +1,13 @@
 #include "decoder/synthesis_kernel.h"
 
+#include <cassert>
+#include <initializer_list>
+
 namespace dmc {
 namespace {
 
 // Eight binary64 lanes in GCC's generic vector type: one AVX-512 register, two AVX2 or four SSE2
-// registers in the other clones. Every lane is one trajectory entry with its own running sum, so
+// registers in the other variants. Every lane is one trajectory entry with its own running sum, so
 // lanes never combine and the vector width cannot change a result. Measured on the 10k × 175,
 // rank-60 synthesis (BM_StageBasisMultiply): 4 lanes × 2 vectors 49 ms, 8 × 2 and converting
 // frame by frame 17 ms, against 56 ms for Eigen's product (built for the baseline ISA).
@@ -49,30 +52,92 @@ template <int kGroup>
   }
 }
 
-}  // namespace
-
-// Compiled for AVX-512, AVX2 and the baseline; the loader picks the best the CPU has. The file
-// is compiled with -ffp-contract=off (codec/CMakeLists.txt), so no clone fuses the multiply and
-// the add.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void SumTrajectoryProducts(
-    const double* const* coefficients, int vertex_count, const double* basis, int rank,
-    std::ptrdiff_t width, double* sums) {
+// Every group size, inlined into each instruction-set variant below.
+[[gnu::always_inline]] inline void SumAnyGroup(const double* const* coefficients, int vertex_count,
+                                               const double* basis, int rank, std::ptrdiff_t width,
+                                               double* sums) {
   switch (vertex_count) {
     case 4:
-      SumGroup<4>(coefficients, basis, rank, width, sums);
-      return;
+      return SumGroup<4>(coefficients, basis, rank, width, sums);
     case 3:
-      SumGroup<3>(coefficients, basis, rank, width, sums);
-      return;
+      return SumGroup<3>(coefficients, basis, rank, width, sums);
     case 2:
-      SumGroup<2>(coefficients, basis, rank, width, sums);
-      return;
-    case 1:
-      SumGroup<1>(coefficients, basis, rank, width, sums);
-      return;
+      return SumGroup<2>(coefficients, basis, rank, width, sums);
     default:
-      return;
+      assert(vertex_count == 1);
+      return SumGroup<1>(coefficients, basis, rank, width, sums);
   }
+}
+
+using SumFunction = void (*)(const double* const*, int, const double*, int, std::ptrdiff_t,
+                             double*);
+
+// The variants, dispatched by hand rather than with target_clones, whose dispatcher clang before
+// 18 cannot call from another translation unit (llvm-project issue 61219). The file is compiled
+// with -ffp-contract=off (codec/CMakeLists.txt), so no variant fuses the multiply and the add.
+void SumBaseline(const double* const* coefficients, int vertex_count, const double* basis, int rank,
+                 std::ptrdiff_t width, double* sums) {
+  SumAnyGroup(coefficients, vertex_count, basis, rank, width, sums);
+}
+#if defined(__x86_64__)
+__attribute__((target("avx2"))) void SumAvx2(const double* const* coefficients, int vertex_count,
+                                             const double* basis, int rank, std::ptrdiff_t width,
+                                             double* sums) {
+  SumAnyGroup(coefficients, vertex_count, basis, rank, width, sums);
+}
+__attribute__((target("avx512f"))) void SumAvx512(const double* const* coefficients,
+                                                  int vertex_count, const double* basis, int rank,
+                                                  std::ptrdiff_t width, double* sums) {
+  SumAnyGroup(coefficients, vertex_count, basis, rank, width, sums);
+}
+#endif
+
+SumFunction Variant(SynthesisIsa isa) {
+  switch (isa) {
+#if defined(__x86_64__)
+    case SynthesisIsa::kAvx512:
+      return SumAvx512;
+    case SynthesisIsa::kAvx2:
+      return SumAvx2;
+#endif
+    default:
+      return SumBaseline;
+  }
+}
+
+}  // namespace
+
+bool SynthesisIsaSupported(SynthesisIsa isa) {
+  switch (isa) {
+    case SynthesisIsa::kBaseline:
+      return true;
+#if defined(__x86_64__)
+    case SynthesisIsa::kAvx2:
+      __builtin_cpu_init();
+      return __builtin_cpu_supports("avx2");
+    case SynthesisIsa::kAvx512:
+      __builtin_cpu_init();
+      return __builtin_cpu_supports("avx512f");
+#endif
+    default:
+      return false;
+  }
+}
+
+void SumTrajectoryProducts(SynthesisIsa isa, const double* const* coefficients, int vertex_count,
+                           const double* basis, int rank, std::ptrdiff_t width, double* sums) {
+  Variant(isa)(coefficients, vertex_count, basis, rank, width, sums);
+}
+
+void SumTrajectoryProducts(const double* const* coefficients, int vertex_count, const double* basis,
+                           int rank, std::ptrdiff_t width, double* sums) {
+  static const SumFunction best = [] {
+    for (const SynthesisIsa isa : {SynthesisIsa::kAvx512, SynthesisIsa::kAvx2}) {
+      if (SynthesisIsaSupported(isa)) return Variant(isa);
+    }
+    return Variant(SynthesisIsa::kBaseline);
+  }();
+  best(coefficients, vertex_count, basis, rank, width, sums);
 }
 
 }  // namespace dmc

@@ -150,31 +150,41 @@ TEST(DecoderFastPaths, SynthesisEqualsBlockwiseProductPlusMean) {
   EXPECT_EQ(frames, expected);
 }
 
-// The vectorised kernel against a sequential dot product, for every group size, widths around the
-// strip length and ranks up to the target's 60: identical bits (whichever clone the CPU runs).
-TEST(DecoderFastPaths, SynthesisKernelEqualsSequentialDotProducts) {
-  for (const int rank : {1, 2, 7, 60}) {
-    for (const std::ptrdiff_t width : {1, 3, 7, 8, 9, 16, 23, 525}) {
-      const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(width, rank);
-      const Eigen::MatrixXd coefficients = 100.0 * Eigen::MatrixXd::Random(rank, 4);
-      for (int group = 1; group <= kSynthesisVertexGroup; ++group) {
-        const double* rows[kSynthesisVertexGroup] = {};
-        for (int i = 0; i < group; ++i) rows[i] = coefficients.col(i).data();
-        std::vector<double> sums(static_cast<size_t>(group * width), -1.0);
-        SumTrajectoryProducts(rows, group, basis.data(), rank, width, sums.data());
-        std::vector<double> expected(sums.size());
-        for (int i = 0; i < group; ++i) {
-          for (std::ptrdiff_t j = 0; j < width; ++j) {
-            double sum = 0.0;
-            for (int k = 0; k < rank; ++k) sum += coefficients(k, i) * basis(j, k);
-            expected[static_cast<size_t>(i * width + j)] = sum;
+// Every instruction-set variant of the kernel the CPU runs, against a sequential dot product, for
+// every group size, widths around the strip length and ranks up to the target's 60: identical
+// bits. (This file is compiled with -ffp-contract=off, tests/CMakeLists.txt, so the reference
+// sums are one multiply and one add per term too.)
+TEST(DecoderFastPaths, SynthesisKernelVariantsEqualSequentialDotProducts) {
+  int variants = 0;
+  for (const SynthesisIsa isa :
+       {SynthesisIsa::kBaseline, SynthesisIsa::kAvx2, SynthesisIsa::kAvx512}) {
+    if (!SynthesisIsaSupported(isa)) continue;
+    ++variants;
+    for (const int rank : {1, 2, 7, 60}) {
+      for (const std::ptrdiff_t width : {1, 3, 7, 8, 9, 16, 23, 525}) {
+        const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(width, rank);
+        const Eigen::MatrixXd coefficients = 100.0 * Eigen::MatrixXd::Random(rank, 4);
+        for (int group = 1; group <= kSynthesisVertexGroup; ++group) {
+          const double* rows[kSynthesisVertexGroup] = {};
+          for (int i = 0; i < group; ++i) rows[i] = coefficients.col(i).data();
+          std::vector<double> sums(static_cast<size_t>(group * width), -1.0);
+          SumTrajectoryProducts(isa, rows, group, basis.data(), rank, width, sums.data());
+          std::vector<double> expected(sums.size());
+          for (int i = 0; i < group; ++i) {
+            for (std::ptrdiff_t j = 0; j < width; ++j) {
+              double sum = 0.0;
+              for (int k = 0; k < rank; ++k) sum += coefficients(k, i) * basis(j, k);
+              expected[static_cast<size_t>(i * width + j)] = sum;
+            }
           }
+          EXPECT_EQ(std::memcmp(sums.data(), expected.data(), sums.size() * sizeof(double)), 0)
+              << "variant " << static_cast<int>(isa) << ", rank " << rank << ", width " << width
+              << ", group " << group;
         }
-        EXPECT_EQ(std::memcmp(sums.data(), expected.data(), sums.size() * sizeof(double)), 0)
-            << "rank " << rank << ", width " << width << ", group " << group;
       }
     }
   }
+  EXPECT_GE(variants, 1);
 }
 
 // At the decode target's shape (rank 60, 175 frames, a partial last group and block) the frames
