@@ -54,7 +54,8 @@ struct EncoderOptions {
   bool ddl_fallback = true;
   // With the ddl operator's fallback and an automatic rank: each segment is also coded at the
   // ranks of 2 and 4 times rank_threshold (when they are lower), and the rank with the lowest
-  // bits + 0.5 · V · F · ln STED is kept. false = the rank of rank_threshold alone.
+  // bits · STED^0.8 (bits of the segment's payloads, STED measured as the fallback does) is kept.
+  // false = the rank of rank_threshold alone.
   bool rank_search = true;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).

@@ -479,14 +479,14 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
   trajectories = SegmentTrajectories();
   const Eigen::MatrixXd top_basis = syntax.basis;
 
-  // The segment coded at one rank (its last use of the projection when `last`): everything that
-  // depends on the rank, and bits · STED^kRankStedElasticity when the fallback measured it.
+  // The segment coded at one rank (the last use of the projection when next_rank is 0): everything
+  // that depends on the rank, and bits · STED^kRankStedElasticity when the fallback measured it.
   struct RankCoding {
     format::SegmentHeader header;
     std::vector<uint8_t> basis_payload, anchor_payload, operator_payload, residual_payload;
     double cost = std::numeric_limits<double>::quiet_NaN();
   };
-  auto code_at_rank = [&](int rank, bool last) -> StatusOr<RankCoding> {
+  auto code_at_rank = [&](int rank, int next_rank) -> StatusOr<RankCoding> {
     RankCoding coding;
     syntax.header = h;
     syntax.header.rank = static_cast<uint32_t>(rank);
@@ -499,12 +499,17 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
     }
     Eigen::MatrixXd coefficients(v_count, 0);
     if (rank > 0) {
-      // Solved as r × V, then transposed once the projection is released (on the last rank):
-      // two V × r buffers at a time, not three (the same values as solving and transposing in
+      // Solved as r × V, then transposed once the projection is released (after the last rank;
+      // before, cut to the next rank's columns): with one rank, two V × r buffers at a time, not
+      // three (the same values as solving and transposing in
       // one expression).
       const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
       Eigen::MatrixXd solved = gram.ldlt().solve(projected.leftCols(rank).transpose());
-      if (last) projected = Eigen::MatrixXd();
+      if (next_rank == 0) {
+        projected = Eigen::MatrixXd();
+      } else {
+        projected.conservativeResize(Eigen::NoChange, next_rank);
+      }
       coefficients = solved.transpose();
     }
     // Anchors before the operator: the DDL trials below reconstruct with them.
@@ -543,7 +548,7 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
           codings.push_back(std::move(candidate));
         }
         coefficients = Eigen::MatrixXd();
-        if (last) mean_shape = Eigen::MatrixXd();
+        if (next_rank == 0) mean_shape = Eigen::MatrixXd();
         // The measurement takes the syntax (mean, basis, anchors) and gives nothing back.
         SegmentSyntax shared;
         shared.header = syntax.header;
@@ -560,8 +565,8 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
       const size_t bytes = mean_payload.size() + coding.basis_payload.size() +
                            coding.anchor_payload.size() + coding.operator_payload.size() +
                            coding.residual_payload.size();
-      coding.cost =
-          std::log(8.0 * static_cast<double>(bytes)) + kRankStedElasticity * std::log(ddl.sted);
+      coding.cost = std::log(8.0 * static_cast<double>(bytes)) +
+                    kRankStedElasticity * std::log(std::max(ddl.sted, 1e-300));
     } else {
       if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id))) {
         // The reference frame is the segment's mean shape, coded so both sides build the same
@@ -586,9 +591,11 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
 
   // One rank at a time, keeping only the cheapest coding: the top rank's when the costs are not
   // measured, the higher rank on ties.
-  DMC_ASSIGN_OR_RETURN(RankCoding best, code_at_rank(top_rank, ranks.size() == 1));
+  auto next_rank = [&](size_t c) { return c + 1 < ranks.size() ? ranks[c + 1] : 0; };
+  DMC_ASSIGN_OR_RETURN(RankCoding best, code_at_rank(top_rank, next_rank(0)));
   for (size_t c = 1; c < ranks.size(); ++c) {
-    StatusOr<RankCoding> candidate = code_at_rank(ranks[c], c + 1 == ranks.size());
+    // A lower rank that cannot be coded is not chosen: the top rank's coding is complete.
+    StatusOr<RankCoding> candidate = code_at_rank(ranks[c], next_rank(c));
     if (candidate.ok() && candidate->cost < best.cost) best = std::move(candidate).value();
   }
   h = best.header;
