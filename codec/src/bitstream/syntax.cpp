@@ -128,18 +128,23 @@ int ResidualColumnGroup(int column) {
   return std::min(16 + (column - 16) / 16, kResidualColumnGroups - 1);
 }
 
-int ResidualNeighbourBucket(const MeshTopology& topology, const std::vector<int32_t>& position,
-                            const std::vector<int64_t>& q, int v, int i) {
-  int64_t abs_sum = 0;
-  int coded = 0;
-  for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
-    const int n = topology.ring_neighbors[r];
-    if (position[n] < i) {
-      abs_sum += q[n] < 0 ? -q[n] : q[n];
-      ++coded;
+EarlierNeighbours ListEarlierNeighbours(const MeshTopology& topology,
+                                        std::span<const int32_t> vertex_order) {
+  const auto v_count = static_cast<int>(vertex_order.size());
+  std::vector<int32_t> position(vertex_order.size());
+  for (int i = 0; i < v_count; ++i) position[vertex_order[i]] = i;
+  EarlierNeighbours earlier;
+  earlier.offsets.assign(vertex_order.size() + 1, 0);
+  earlier.positions.reserve(topology.ring_neighbors.size() / 2 + 1);
+  for (int i = 0; i < v_count; ++i) {
+    const int v = vertex_order[i];
+    for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
+      const int p = position[topology.ring_neighbors[r]];
+      if (p < i) earlier.positions.push_back(p);
     }
+    earlier.offsets[i + 1] = static_cast<int32_t>(earlier.positions.size());
   }
-  return ResidualActivityBucket(abs_sum, coded);
+  return earlier;
 }
 
 int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours) {

@@ -60,10 +60,27 @@ int ResidualColumnGroup(int column);
 // the rounded mean absolute value ((2*sum + n) / (2n)) + 1).
 int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours);
 
-// Activity bucket of vertex `v`, the i-th in coding order, from the |q| of its one-ring neighbours
-// already coded in this column (position[n] < i). Both sides call this, so contexts always agree.
-int ResidualNeighbourBucket(const MeshTopology& topology, const std::vector<int32_t>& position,
-                            const std::vector<int64_t>& q, int v, int i);
+// The residual context of the i-th vertex in coding order is the activity bucket of the |q| of its
+// one-ring neighbours already coded in the same column (coding position < i), counted in ring
+// order with repeats. Which neighbours those are is the same in every column, so both sides list
+// their coding positions once per segment and keep each column's values by coding position.
+struct EarlierNeighbours {
+  std::vector<int32_t> offsets;    // vertex i's entries: positions[offsets[i] .. offsets[i + 1])
+  std::vector<int32_t> positions;  // coding positions of earlier-coded ring neighbours
+
+  // Bucket of the i-th vertex from the column's values by coding position (q[p] for p < i).
+  int Bucket(const std::vector<int64_t>& q, int i) const {
+    int64_t abs_sum = 0;
+    for (int32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      const int64_t n = q[positions[e]];
+      abs_sum += n < 0 ? -n : n;
+    }
+    return ResidualActivityBucket(abs_sum, offsets[i + 1] - offsets[i]);
+  }
+};
+// `vertex_order` lists the vertices in coding order (a permutation of [0, V)).
+EarlierNeighbours ListEarlierNeighbours(const MeshTopology& topology,
+                                        std::span<const int32_t> vertex_order);
 
 struct ResidualContexts {
   IntegerContexts sets[kResidualColumnGroups][kResidualActivityBuckets];

@@ -290,37 +290,15 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(payload));
   auto contexts = std::make_unique<format::ResidualContexts>();
-  // The context of the i-th vertex in coding order depends on its one-ring neighbours coded before
-  // it in the same column (format::ResidualNeighbourBucket). Which neighbours those are is the
-  // same in every column, so list their coding positions once (ring order, repeats kept, as the
-  // bucket counts them) and keep each column's values by coding position: the inner loop then
-  // sums |q| over a short contiguous list instead of testing every neighbour's position.
-  std::vector<int32_t> position(v_count);
-  for (int i = 0; i < v_count; ++i) position[vertex_order[i]] = i;
-  std::vector<int32_t> earlier_offsets(static_cast<size_t>(v_count) + 1, 0);
-  std::vector<int32_t> earlier_positions;
-  earlier_positions.reserve(topology.ring_neighbors.size() / 2 + 1);
-  for (int i = 0; i < v_count; ++i) {
-    const int v = vertex_order[i];
-    for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
-      const int p = position[topology.ring_neighbors[r]];
-      if (p < i) earlier_positions.push_back(p);
-    }
-    earlier_offsets[i + 1] = static_cast<int32_t>(earlier_positions.size());
-  }
+  // Contexts from the earlier-coded neighbours, listed once (format::EarlierNeighbours).
+  const format::EarlierNeighbours earlier = format::ListEarlierNeighbours(topology, vertex_order);
   std::vector<int64_t> q(v_count);  // the current column's values, by coding position
   const double step = syntax.header.residual_step;
   for (int k = 0; k < rank; ++k) {
     auto& column_contexts = contexts->sets[format::ResidualColumnGroup(k)];
     double* delta = syntax.delta.col(k).data();
     for (int i = 0; i < v_count; ++i) {
-      int64_t abs_sum = 0;
-      for (int e = earlier_offsets[i]; e < earlier_offsets[i + 1]; ++e) {
-        const int64_t n = q[earlier_positions[e]];
-        abs_sum += n < 0 ? -n : n;
-      }
-      IntegerContexts& ctx = column_contexts[format::ResidualActivityBucket(
-          abs_sum, earlier_offsets[i + 1] - earlier_offsets[i])];
+      IntegerContexts& ctx = column_contexts[earlier.Bucket(q, i)];
       int64_t value;
       if (!decoder.TryDecodeSigned(ctx, &value)) return decoder.error();
       if (value > format::kMaxResidualMagnitude || value < -format::kMaxResidualMagnitude) {

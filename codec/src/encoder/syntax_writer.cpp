@@ -210,25 +210,8 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
   if (rank == 0) return std::vector<uint8_t>();
   RangeEncoder encoder;
   auto contexts = std::make_unique<format::ResidualContexts>();
-  // The context of the i-th vertex in coding order depends on its one-ring neighbours coded
-  // before it in the same column (format::ResidualNeighbourBucket). Which neighbours those are is
-  // the same in every column, so their coding positions are listed once (ring order, repeats
-  // kept, as the bucket counts them) and each column's values are kept by coding position, as
-  // the reader does: the same sums and counts, hence the same contexts, without testing every
-  // neighbour's position for every symbol.
-  std::vector<int32_t> position(v_count);
-  for (int i = 0; i < v_count; ++i) position[vertex_order[i]] = i;
-  std::vector<int32_t> earlier_offsets(static_cast<size_t>(v_count) + 1, 0);
-  std::vector<int32_t> earlier_positions;
-  earlier_positions.reserve(topology.ring_neighbors.size() / 2 + 1);
-  for (int i = 0; i < v_count; ++i) {
-    const int v = vertex_order[i];
-    for (int r = topology.ring_offsets[v]; r < topology.ring_offsets[v + 1]; ++r) {
-      const int p = position[topology.ring_neighbors[r]];
-      if (p < i) earlier_positions.push_back(p);
-    }
-    earlier_offsets[i + 1] = static_cast<int32_t>(earlier_positions.size());
-  }
+  // Contexts from the earlier-coded neighbours, listed once (format::EarlierNeighbours).
+  const format::EarlierNeighbours earlier = format::ListEarlierNeighbours(topology, vertex_order);
   std::vector<int64_t> q(v_count);  // the current column's values, by coding position
   for (int k = 0; k < rank; ++k) {
     auto& column_contexts = contexts->sets[format::ResidualColumnGroup(k)];
@@ -242,15 +225,9 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
             "operator amplifies this geometry too much for the residual step; use fewer residual " +
             "bits or another operator");
       }
-      int64_t abs_sum = 0;
-      for (int e = earlier_offsets[i]; e < earlier_offsets[i + 1]; ++e) {
-        const int64_t n = q[earlier_positions[e]];
-        abs_sum += n < 0 ? -n : n;
-      }
+      const int bucket = earlier.Bucket(q, i);
       q[i] = std::llround(steps);
-      encoder.EncodeSigned(column_contexts[format::ResidualActivityBucket(
-                               abs_sum, earlier_offsets[i + 1] - earlier_offsets[i])],
-                           q[i]);
+      encoder.EncodeSigned(column_contexts[bucket], q[i]);
       if (decoded) (*decoded)(v, k) = static_cast<double>(q[i]) * header.residual_step;
     }
   }
