@@ -500,9 +500,8 @@ StatusOr<SegmentResult> EncodeSegment(SegmentTrajectories trajectories,
     Eigen::MatrixXd coefficients(v_count, 0);
     if (rank > 0) {
       // Solved as r × V, then transposed once the projection is released (after the last rank;
-      // before, cut to the next rank's columns): with one rank, two V × r buffers at a time, not
-      // three (the same values as solving and transposing in
-      // one expression).
+      // before it, cut to the next rank's columns): with one rank, two V × r buffers at a time,
+      // not three (the same values as solving and transposing in one expression).
       const Eigen::MatrixXd gram = syntax.basis.transpose() * syntax.basis;
       Eigen::MatrixXd solved = gram.ldlt().solve(projected.leftCols(rank).transpose());
       if (next_rank == 0) {
