@@ -143,6 +143,7 @@ class CliEqualityTest(unittest.TestCase):
         {"operator": "cotan", "segment_frames": 4, "reference_bits": 9, "anchor_step_ratio": 2.0},
         {"operator": "ddl", "weight_bits": 6, "ddl_mu": 0.05, "uniform_weight_prediction": True,
          "allow_reorder": True, "rank_threshold": 5.0},
+        {"ddl_fallback": False, "residual_bits": 9},
     ]
 
     @classmethod
@@ -163,6 +164,8 @@ class CliEqualityTest(unittest.TestCase):
             flag = "--" + key.replace("_", "-")
             if value is True:
                 arguments.append(flag)
+            elif value is False:  # the CLI's switches are negative: --no-rank-search
+                arguments.append("--no-" + key.replace("_", "-"))
             else:
                 arguments += [flag, str(value)]
         return arguments
@@ -180,6 +183,25 @@ class CliEqualityTest(unittest.TestCase):
                 ours = dmc.encode(frames, faces, name=meta["name"],
                                   frame_rate=meta["frame_rate"], **options)
                 self.assertEqual(ours, cli_bytes)
+
+    def test_rank_search_keyword_is_the_cli_switch(self):
+        # On this blob at 10 bits the rank search picks a lower rank (a different stream), so
+        # the keyword is seen to act, and rank_search=False is `--no-rank-search`.
+        frames, faces = support.small_animation(frames=16, resolution=1500, name="blob")
+        path = os.path.join(self.scratch.name, "blob16")
+        dmc.write_sequence(path, frames, faces, frame_rate=30.0)
+        frames, faces, meta = dmc.read_sequence(path, metadata=True)
+        stream_meta = {"name": meta["name"], "frame_rate": meta["frame_rate"]}
+        searched = dmc.encode(frames, faces, residual_bits=10, **stream_meta)
+        plain = dmc.encode(frames, faces, residual_bits=10, rank_search=False, **stream_meta)
+        self.assertNotEqual(searched, plain)
+        output = os.path.join(self.scratch.name, "blob16.dmc")
+        support.run_cli("encode", path, "-o", output, "--no-measure", "--residual-bits", "10",
+                        "--no-rank-search")
+        with open(output, "rb") as stream:
+            self.assertEqual(plain, stream.read())
+        self.assertLess(dmc.info(searched)["segments"][0]["rank"],
+                        dmc.info(plain)["segments"][0]["rank"])
 
     def test_decode_equals_cli_decode(self):
         stream_path = os.path.join(self.scratch.name, "decode.dmc")
