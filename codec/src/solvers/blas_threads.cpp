@@ -7,23 +7,32 @@
 namespace dmc {
 namespace {
 
-using SetThreads = void (*)(int);
-using GetThreads = int (*)();
-
-struct OpenBlasControls {
-  SetThreads set = nullptr;
-  GetThreads get = nullptr;
+// An integer setting of a runtime library in the process (OpenBLAS's thread count, OpenMP's
+// max-active-levels), looked up at run time so that the codec works with any BLAS and without an
+// OpenMP runtime; both functions null when either is missing.
+struct IntSetting {
+  void (*set)(int) = nullptr;
+  int (*get)() = nullptr;
 };
 
-const OpenBlasControls& Controls() {
-  static const OpenBlasControls controls = [] {
-    OpenBlasControls found;
-    found.set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    found.get = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    if (found.set == nullptr || found.get == nullptr) found = OpenBlasControls();
-    return found;
-  }();
-  return controls;
+IntSetting LookUpSetting(const char* set_name, const char* get_name) {
+  IntSetting found;
+  found.set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, set_name));
+  found.get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, get_name));
+  if (found.set == nullptr || found.get == nullptr) found = IntSetting();
+  return found;
+}
+
+const IntSetting& OpenBlasThreads() {
+  static const IntSetting setting =
+      LookUpSetting("openblas_set_num_threads", "openblas_get_num_threads");
+  return setting;
+}
+
+const IntSetting& OpenMpActiveLevels() {
+  static const IntSetting setting =
+      LookUpSetting("omp_set_max_active_levels", "omp_get_max_active_levels");
+  return setting;
 }
 
 std::mutex guard_mutex;
@@ -33,54 +42,31 @@ int saved_threads = 1;
 }  // namespace
 
 ScopedSingleThreadedBlas::ScopedSingleThreadedBlas() {
-  const OpenBlasControls& controls = Controls();
-  if (controls.set == nullptr) return;
+  const IntSetting& threads = OpenBlasThreads();
+  if (threads.set == nullptr) return;
   std::lock_guard<std::mutex> lock(guard_mutex);
   if (live_guards++ == 0) {
-    saved_threads = controls.get();
-    if (saved_threads != 1) controls.set(1);
+    saved_threads = threads.get();
+    if (saved_threads != 1) threads.set(1);
   }
 }
 
 ScopedSingleThreadedBlas::~ScopedSingleThreadedBlas() {
-  const OpenBlasControls& controls = Controls();
-  if (controls.set == nullptr) return;
+  const IntSetting& threads = OpenBlasThreads();
+  if (threads.set == nullptr) return;
   std::lock_guard<std::mutex> lock(guard_mutex);
-  if (--live_guards == 0 && saved_threads != 1) controls.set(saved_threads);
+  if (--live_guards == 0 && saved_threads != 1) threads.set(saved_threads);
 }
-
-namespace {
-
-using SetLevels = void (*)(int);
-using GetLevels = int (*)();
-
-struct OpenMpControls {
-  SetLevels set = nullptr;
-  GetLevels get = nullptr;
-};
-
-const OpenMpControls& OpenMp() {
-  static const OpenMpControls controls = [] {
-    OpenMpControls found;
-    found.set = reinterpret_cast<SetLevels>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
-    found.get = reinterpret_cast<GetLevels>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
-    if (found.set == nullptr || found.get == nullptr) found = OpenMpControls();
-    return found;
-  }();
-  return controls;
-}
-
-}  // namespace
 
 ScopedSerialOpenMp::ScopedSerialOpenMp() {
-  const OpenMpControls& controls = OpenMp();
-  if (controls.set == nullptr) return;
-  saved_levels_ = controls.get();
-  if (saved_levels_ != 0) controls.set(0);
+  const IntSetting& levels = OpenMpActiveLevels();
+  if (levels.set == nullptr) return;
+  saved_levels_ = levels.get();
+  if (saved_levels_ != 0) levels.set(0);
 }
 
 ScopedSerialOpenMp::~ScopedSerialOpenMp() {
-  if (saved_levels_ > 0) OpenMp().set(saved_levels_);
+  if (saved_levels_ > 0) OpenMpActiveLevels().set(saved_levels_);
 }
 
 }  // namespace dmc
