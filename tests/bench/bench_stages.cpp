@@ -38,7 +38,7 @@
 #include "dmc/encoder.h"
 #include "dmc/metrics.h"
 #include "dmc/operators.h"
-#include "encoder/segment_pca.h"
+#include "fitting/segment_pca.h"
 #include "encoder/syntax_writer.h"
 
 namespace dmc::bench {

@@ -24,7 +24,7 @@
 #include "dmc/io.h"
 #include "dmc/operators.h"
 #include "encoder/connectivity_encoder.h"
-#include "encoder/segment_pca.h"
+#include "fitting/segment_pca.h"
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
 #include "io/pc2_stream.h"

@@ -1,4 +1,4 @@
-#include "encoder/segment_pca.h"
+#include "fitting/segment_pca.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
