@@ -23,10 +23,12 @@
 #include "dmc/decoder.h"
 #include "dmc/io.h"
 #include "dmc/operators.h"
+#include "encoder/codec_operators.h"
 #include "encoder/connectivity_encoder.h"
-#include "fitting/segment_pca.h"
+#include "encoder/encoder_options.h"
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
+#include "fitting/segment_pca.h"
 #include "io/pc2_stream.h"
 #include "metrics/streaming_distortion.h"
 
@@ -40,88 +42,6 @@ constexpr double kAnchorFraction = 0.01;  // automatic anchor count = 1 % of the
 // at most 1000 (the 1 % rule at 100k vertices): farthest-point sampling costs O(V · anchors), so
 // the cap keeps it linear in V beyond that.
 constexpr int kMaxAutomaticAnchors = 1000;
-
-struct CodecOperator {
-  std::string_view name;
-  OperatorId id;
-};
-constexpr CodecOperator kCodecOperators[] = {{"ddl", OperatorId::kDdl},
-                                             {"tutte", OperatorId::kTutte},
-                                             {"kirchhoff", OperatorId::kKirchhoff},
-                                             {"cotan", OperatorId::kCotan},
-                                             {"cotan-area", OperatorId::kCotanArea},
-                                             {"cotan-sym", OperatorId::kCotanSym},
-                                             {"mean-value", OperatorId::kMeanValue}};
-
-StatusOr<OperatorId> CodecOperatorId(std::string_view name) {
-  for (const auto& op : kCodecOperators) {
-    if (op.name == name) return op.id;
-  }
-  std::string names;
-  for (const auto& op : kCodecOperators)
-    names += (names.empty() ? "" : ", ") + std::string(op.name);
-  if (FindOperator(name).ok()) {
-    return UnsupportedError("operator '" + std::string(name) +
-                            "' cannot be used by the codec (codec operators: " + names + ")");
-  }
-  return NotFoundError("unknown operator '" + std::string(name) + "' (codec operators: " + names +
-                       ")");
-}
-
-std::string_view CodecOperatorName(OperatorId id) {
-  for (const auto& op : kCodecOperators) {
-    if (op.id == id) return op.name;
-  }
-  return "unknown";
-}
-
-Status ValidateOptions(const EncoderOptions& o) {
-  auto bad = [](const std::string& what) { return InvalidArgumentError(what); };
-  if (o.rank < 0 || o.rank > static_cast<int>(format::kMaxRank)) {
-    return bad("--rank must be in [0, " + std::to_string(format::kMaxRank) + "], got " +
-               std::to_string(o.rank));
-  }
-  if (o.basis_bits < 2 || o.basis_bits > 16) {
-    return bad("--basis-bits must be in [2, 16], got " + std::to_string(o.basis_bits));
-  }
-  if (o.residual_bits < 1 || o.residual_bits > 30) {
-    return bad("--residual-bits must be in [1, 30], got " + std::to_string(o.residual_bits));
-  }
-  if (!std::isfinite(o.residual_step) || o.residual_step < 0.0) {
-    return bad("--residual-step must be a finite value >= 0");
-  }
-  if (!std::isfinite(o.rank_threshold) || o.rank_threshold <= 0.0) {
-    return bad("--rank-threshold must be positive");
-  }
-  if (o.anchors < -1) return bad("--anchors must be >= 1, or -1 for automatic");
-  if (!std::isfinite(o.anchor_step_ratio) || o.anchor_step_ratio <= 0.0) {
-    return bad("anchor step ratio must be positive");
-  }
-  if (o.segment_frames < 0 || o.segment_frames > static_cast<int>(format::kMaxSegmentFrames)) {
-    return bad("--segment-frames must be in [0, " + std::to_string(format::kMaxSegmentFrames) +
-               "]");
-  }
-  if (o.reference_bits < 4 || o.reference_bits > 30) {
-    return bad("--reference-bits must be in [4, 30], got " + std::to_string(o.reference_bits));
-  }
-  if (o.weight_bits < 2 || o.weight_bits > 20) {
-    return bad("--weight-bits must be in [2, 20], got " + std::to_string(o.weight_bits));
-  }
-  if (!(o.ddl_dead_zone == 0.0 || o.ddl_dead_zone >= 0.5)) {
-    return bad("--ddl-dead-zone must be 0 (automatic) or >= 0.5");
-  }
-  if (!std::isfinite(o.ddl_regularization) || o.ddl_regularization < 0.0) {
-    return bad("--ddl-mu must be >= 0");
-  }
-  if (!std::isfinite(o.target_bpfv) || o.target_bpfv < 0.0 || !std::isfinite(o.target_sted) ||
-      o.target_sted < 0.0) {
-    return bad("targets must be finite and >= 0");
-  }
-  if (o.target_bpfv > 0.0 && o.target_sted > 0.0) {
-    return bad("give --target-bpfv or --target-sted, not both");
-  }
-  return CodecOperatorId(o.operator_name).status();
-}
 
 // Farthest-point sampling on the segment's mean shape, then one anchor added to every component
 // that has none (the normal matrix is singular otherwise). Ascending indices. Each round scans
