@@ -290,7 +290,6 @@ class AnchoredLaplacianSolver {
   StatusOr<Eigen::MatrixXd> Solve(const Eigen::MatrixXd& delta,
                                   const Eigen::MatrixXd& anchor_values) const;
 
-  const SparseSpdSolver& normal_solver() const { return solver_; }
   const std::vector<int32_t>& anchors() const { return anchors_; }
 
  private:
