@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Coverage-guided fuzzing of every target in tests/fuzz with libFuzzer (clang-14, ASan + UBSan),
-# for a bounded time each. Fails when any target crashes, leaks, times out or runs out of memory;
-# the inputs that did are copied into a crasher directory printed at the end.
+# Coverage-guided fuzzing of every target in tests/fuzz with libFuzzer (clang-14, ASan + UBSan;
+# the "fuzz" preset of CMakePresets.json), for a bounded time each. Fails when any target
+# crashes, leaks, times out or runs out of memory; the inputs that did are copied into a crasher
+# directory printed at the end.
 #
 # Usage: tools/fuzz.sh [seconds]
 #   seconds   time for each of the two main targets, decode_fuzz and codec_roundtrip_fuzz
@@ -36,15 +37,14 @@ if ! command -v clang++-14 >/dev/null; then
   exit 2
 fi
 
-# The library is instrumented for coverage too (fuzzer-no-link); only the fuzz binaries link
-# libFuzzer's main. UBSan does not recover, so undefined behaviour is a crash like any other.
-sanitizers="-fsanitize=address,undefined -fno-sanitize-recover=all"
-CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DDMC_BUILD_FUZZ=ON -DDMC_BUILD_TESTS=OFF -DDMC_BUILD_TOOLS=OFF -DDMC_BUILD_BENCH=OFF \
-  -DDMC_BUILD_PYTHON=OFF \
-  -DCMAKE_CXX_FLAGS="$sanitizers -fsanitize=fuzzer-no-link -fno-omit-frame-pointer" \
-  -DCMAKE_EXE_LINKER_FLAGS="$sanitizers" >/dev/null
+# The "fuzz" preset of CMakePresets.json: the library is instrumented for coverage too
+# (fuzzer-no-link); only the fuzz binaries link libFuzzer's main. UBSan does not recover, so
+# undefined behaviour is a crash like any other.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
+cmake -S "$root" --preset fuzz -B "$build" >/dev/null
+start=$SECONDS
 cmake --build "$build" --target "${targets[@]}" -j "$jobs"
+echo "fuzz: build took $((SECONDS - start)) s"
 
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
@@ -64,6 +64,7 @@ seed_dirs() {
   esac
 }
 
+start=$SECONDS
 failed=()
 for target in "${targets[@]}"; do
   seconds="$other_seconds"
@@ -96,6 +97,7 @@ for target in "${targets[@]}"; do
   rm -f "$artifacts"/*
 done
 
+echo "fuzz: fuzzing took $((SECONDS - start)) s"
 if [ ${#failed[@]} -ne 0 ]; then
   echo "fuzz: ${#failed[@]} target(s) failed: ${failed[*]}"
   echo "fuzz: crashers and logs in $crash_dir"

@@ -10,6 +10,8 @@ packages=(
   libtinygltf-dev libspectra-dev            # glTF import/export; eigensolvers for spectral methods
   pybind11-dev python3-dev python3-numpy python3-scipy  # the Python module and its tests
   clang-14 libclang-rt-14-dev               # libFuzzer and the sanitizer runs
+  clang-format-14 ccache                    # tools/test.sh's formatting check; compiler cache
+  python3-clang-14                          # libclang's parser for tools/check-sizes.py
   chromium                                  # the viewer's headless browser test (node and npm ship with the machine)
 )
 

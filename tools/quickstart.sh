@@ -7,7 +7,8 @@ build="${DMC_BUILD_DIR:-$root/build}"
 out="${DMC_OUT:-$root/out}"
 
 "$root/tools/install-deps.sh"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# The "release" preset, as tools/test.sh, so the two can share one build directory.
+cmake -S "$root" --preset release -B "$build" >/dev/null
 cmake --build "$build" -j "$(nproc)" --target dmc_cli
 dmc="$build/bin/dmc"
 mkdir -p "$out"
