@@ -405,7 +405,6 @@ class TvmEditor {
 
   // Computes and keeps the surface weights of every frame (parallel over frames).
   void PrecomputeSurfaceWeights();
-  bool has_precomputed_weights() const { return !weights_.empty(); }
 
   // Centre transforms of each operation, in every frame. Errors (kInvalidArgument) name the bad
   // index, frame, decay radius or non-rigid transform.
