@@ -4,7 +4,8 @@
 #include <cmath>
 #include <string>
 
-#include "dmc/operators.h"
+#include "dmc/laplace_operator.h"
+#include "dmc/operator_formulas.h"
 
 namespace dmc {
 

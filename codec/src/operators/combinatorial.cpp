@@ -1,5 +1,5 @@
 // Operators from connectivity alone: Kirchhoff (graph Laplacian) and Tutte (its unit-sum rows).
-#include "dmc/operators.h"
+#include "dmc/operator_formulas.h"
 
 namespace dmc {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "dmc/operators.h"
+#include "dmc/operator_formulas.h"
 #include "operators/triangle_corners.h"
 
 namespace dmc {

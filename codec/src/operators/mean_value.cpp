@@ -2,7 +2,7 @@
 // plane, normalised to unit row sum.
 #include <string>
 
-#include "dmc/operators.h"
+#include "dmc/operator_formulas.h"
 #include "operators/triangle_corners.h"
 
 namespace dmc {

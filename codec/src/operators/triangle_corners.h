@@ -5,7 +5,8 @@
 #include <Eigen/Core>
 #include <cmath>
 
-#include "dmc/operators.h"
+#include "dmc/sequence.h"
+#include "dmc/topology.h"
 
 namespace dmc::operators_internal {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "dmc/operators.h"
+#include "dmc/sparse_solvers.h"
 
 namespace dmc {
 

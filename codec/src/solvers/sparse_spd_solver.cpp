@@ -19,7 +19,7 @@
 #include <variant>
 #include <vector>
 
-#include "dmc/operators.h"
+#include "dmc/sparse_solvers.h"
 #include "solvers/blas_threads.h"
 
 namespace dmc {
