@@ -24,13 +24,9 @@ class DisjointSets {
   std::vector<int> parent_;
 };
 
-}  // namespace
-
-MeshTopology BuildTopology(const Triangles& triangles, int vertex_count) {
-  MeshTopology topo;
-  topo.vertex_count = vertex_count;
+// The undirected edges, each with its opposite vertices and face count, sorted by (i, j).
+void BuildEdges(const Triangles& triangles, MeshTopology& topo) {
   const int t_count = static_cast<int>(triangles.rows());
-
   // Half-edge records (min, max, opposite vertex), sorted to group each undirected edge.
   struct HalfEdge {
     int32_t a, b, opposite;
@@ -61,10 +57,12 @@ MeshTopology BuildTopology(const Triangles& triangles, int vertex_count) {
     topo.edge_face_count.push_back(count);
     h = end;
   }
-  const int e_count = topo.edge_count();
+}
 
-  // One-rings in CSR form.
-  topo.ring_offsets.assign(vertex_count + 1, 0);
+// One-rings in CSR form, each ring sorted ascending.
+void BuildRings(MeshTopology& topo) {
+  const int e_count = topo.edge_count();
+  topo.ring_offsets.assign(topo.vertex_count + 1, 0);
   for (const auto& e : topo.edges) {
     ++topo.ring_offsets[e[0] + 1];
     ++topo.ring_offsets[e[1] + 1];
@@ -85,8 +83,11 @@ MeshTopology BuildTopology(const Triangles& triangles, int vertex_count) {
     topo.ring_neighbors[cursor[i]] = j;
     topo.ring_edges[cursor[i]++] = e;
   }
+}
 
-  // Components (isolated vertices count as their own component).
+// Components (isolated vertices count as their own component).
+void FindComponents(MeshTopology& topo) {
+  const int vertex_count = topo.vertex_count;
   DisjointSets vertex_sets(vertex_count);
   for (const auto& e : topo.edges) vertex_sets.Unite(e[0], e[1]);
   topo.component_of_vertex.assign(vertex_count, -1);
@@ -97,11 +98,14 @@ MeshTopology BuildTopology(const Triangles& triangles, int vertex_count) {
     topo.component_of_vertex[v] = root_to_component[root];
     if (topo.degree(v) == 0) ++topo.isolated_vertex_count;
   }
+}
 
-  // Boundary and manifoldness.
+// Boundary edges, vertices and loops, and non-manifold edges.
+void FindBoundaries(MeshTopology& topo) {
+  const int vertex_count = topo.vertex_count;
   topo.vertex_on_boundary.assign(vertex_count, 0);
   DisjointSets boundary_sets(vertex_count);
-  for (int e = 0; e < e_count; ++e) {
+  for (int e = 0; e < topo.edge_count(); ++e) {
     const int faces = topo.edge_face_count[e];
     if (faces > 2) ++topo.non_manifold_edge_count;
     if (faces == 1) {
@@ -114,7 +118,20 @@ MeshTopology BuildTopology(const Triangles& triangles, int vertex_count) {
   for (int v = 0; v < vertex_count; ++v) {
     if (topo.vertex_on_boundary[v] && boundary_sets.Find(v) == v) ++topo.boundary_loop_count;
   }
-  topo.euler_characteristic = (vertex_count - topo.isolated_vertex_count) - e_count + t_count;
+}
+
+}  // namespace
+
+MeshTopology BuildTopology(const Triangles& triangles, int vertex_count) {
+  MeshTopology topo;
+  topo.vertex_count = vertex_count;
+  BuildEdges(triangles, topo);
+  BuildRings(topo);
+  FindComponents(topo);
+  FindBoundaries(topo);
+  const int t_count = static_cast<int>(triangles.rows());
+  topo.euler_characteristic =
+      (vertex_count - topo.isolated_vertex_count) - topo.edge_count() + t_count;
   return topo;
 }
 

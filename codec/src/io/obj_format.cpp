@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/mesh_formats.h"
 #include "io/text_scanner.h"
@@ -58,6 +59,68 @@ bool ParseCornerVertex(std::string_view corner, int64_t& vertex) {
   return false;  // more than three parts
 }
 
+// A "v" statement: x y z kept; a 4th (w) or 4th-6th (colour) value is syntax-checked and dropped.
+Status ParseObjVertex(TokenReader& tokens, int line_number, MeshFileData& mesh) {
+  std::string_view token;
+  int count = 0;
+  while (tokens.Next(token)) {
+    float value = 0.0f;
+    if (!ParseNumber(token, value)) {
+      return LineError(line_number, "vertex coordinate " + Quote(token) + " is not a number");
+    }
+    if (count < 3) mesh.positions.push_back(value);
+    ++count;
+  }
+  if (count < 3) {
+    return LineError(line_number,
+                     "vertex has " + std::to_string(count) + " coordinate(s), expected 3");
+  }
+  return Status::Ok();
+}
+
+// Positive indices may refer to vertices defined later in the file; the largest such index is
+// checked once every vertex is known.
+struct ForwardReference {
+  int64_t largest_index = -1;
+  int line = 0;
+};
+
+// An "f" statement, appended as a fan of triangles.
+Status ParseObjFace(TokenReader& tokens, int line_number, std::vector<int32_t>& corners,
+                    ForwardReference& forward, MeshFileData& mesh) {
+  corners.clear();
+  const int64_t defined = mesh.vertex_count();
+  std::string_view token;
+  while (tokens.Next(token)) {
+    int64_t index = 0;
+    if (!ParseCornerVertex(token, index)) {
+      return LineError(line_number, "face corner " + Quote(token) +
+                                        " is not an index, index/index or index/index/index");
+    }
+    if (index == 0) return LineError(line_number, "face index 0 is invalid (OBJ counts from 1)");
+    int64_t zero_based = index > 0 ? index - 1 : defined + index;
+    if (zero_based < 0) {
+      return LineError(line_number, "relative face index " + std::to_string(index) +
+                                        " reaches before the first vertex");
+    }
+    if (zero_based > INT32_MAX) {
+      return LineError(line_number, "face index " + std::to_string(index) + " is too large");
+    }
+    if (zero_based >= defined && zero_based > forward.largest_index) {
+      forward.largest_index = zero_based;
+      forward.line = line_number;
+    }
+    corners.push_back(static_cast<int32_t>(zero_based));
+  }
+  if (corners.size() < 3) {
+    return LineError(line_number, "face has " + std::to_string(corners.size()) +
+                                      " corner(s), at least 3 are needed");
+  }
+  if (corners.size() > 3) ++mesh.polygons_triangulated;
+  AppendFan(corners, mesh);
+  return Status::Ok();
+}
+
 }  // namespace
 
 StatusOr<MeshFileData> ParseObj(std::string_view text) {
@@ -66,11 +129,7 @@ StatusOr<MeshFileData> ParseObj(std::string_view text) {
   std::string_view line;
   std::vector<int32_t> corners;
   int points_and_lines = 0;
-  // Positive indices may refer to vertices defined later in the file; the largest such index is
-  // checked once every vertex is known.
-  int64_t largest_forward_index = -1;
-  int largest_forward_line = 0;
-
+  ForwardReference forward;
   while (lines.Next(line)) {
     line = TrimLeft(line);
     if (line.empty()) continue;
@@ -81,68 +140,19 @@ StatusOr<MeshFileData> ParseObj(std::string_view text) {
     TokenReader tokens(line);
     std::string_view keyword;
     tokens.Next(keyword);
-
     if (keyword == "v") {
-      std::string_view token;
-      int count = 0;
-      while (tokens.Next(token)) {
-        float value = 0.0f;
-        if (!ParseNumber(token, value)) {
-          return LineError(lines.line_number(),
-                           "vertex coordinate " + Quote(token) + " is not a number");
-        }
-        // x y z are kept; a 4th (w) or 4th-6th (colour) value is syntax-checked and dropped.
-        if (count < 3) mesh.positions.push_back(value);
-        ++count;
-      }
-      if (count < 3) {
-        return LineError(lines.line_number(),
-                         "vertex has " + std::to_string(count) + " coordinate(s), expected 3");
-      }
+      DMC_RETURN_IF_ERROR(ParseObjVertex(tokens, lines.line_number(), mesh));
     } else if (keyword == "f") {
-      corners.clear();
-      const int64_t defined = mesh.vertex_count();
-      std::string_view token;
-      while (tokens.Next(token)) {
-        int64_t index = 0;
-        if (!ParseCornerVertex(token, index)) {
-          return LineError(lines.line_number(), "face corner " + Quote(token) +
-                                                    " is not an index, index/index or "
-                                                    "index/index/index");
-        }
-        if (index == 0) {
-          return LineError(lines.line_number(), "face index 0 is invalid (OBJ counts from 1)");
-        }
-        int64_t zero_based = index > 0 ? index - 1 : defined + index;
-        if (zero_based < 0) {
-          return LineError(lines.line_number(), "relative face index " + std::to_string(index) +
-                                                    " reaches before the first vertex");
-        }
-        if (zero_based > INT32_MAX) {
-          return LineError(lines.line_number(),
-                           "face index " + std::to_string(index) + " is too large");
-        }
-        if (zero_based >= defined && zero_based > largest_forward_index) {
-          largest_forward_index = zero_based;
-          largest_forward_line = lines.line_number();
-        }
-        corners.push_back(static_cast<int32_t>(zero_based));
-      }
-      if (corners.size() < 3) {
-        return LineError(lines.line_number(), "face has " + std::to_string(corners.size()) +
-                                                  " corner(s), at least 3 are needed");
-      }
-      if (corners.size() > 3) ++mesh.polygons_triangulated;
-      AppendFan(corners, mesh);
+      DMC_RETURN_IF_ERROR(ParseObjFace(tokens, lines.line_number(), corners, forward, mesh));
     } else if (keyword == "l" || keyword == "p") {
       ++points_and_lines;
     } else if (!IsSkippedStatement(keyword)) {
       return LineError(lines.line_number(), "unknown statement " + Quote(keyword));
     }
   }
-  if (largest_forward_index >= mesh.vertex_count()) {
-    return LineError(largest_forward_line,
-                     "face refers to vertex " + std::to_string(largest_forward_index + 1) +
+  if (forward.largest_index >= mesh.vertex_count()) {
+    return LineError(forward.line,
+                     "face refers to vertex " + std::to_string(forward.largest_index + 1) +
                          " but the file defines " + std::to_string(mesh.vertex_count()));
   }
   if (points_and_lines > 0) {

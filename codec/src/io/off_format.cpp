@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/mesh_formats.h"
 #include "io/text_scanner.h"
@@ -53,11 +54,13 @@ bool RestAreNumbers(TokenReader& tokens, std::string_view& bad) {
   return true;
 }
 
-}  // namespace
+struct OffCounts {
+  int64_t vertices = -1;
+  int64_t faces = -1;
+};
 
-StatusOr<MeshFileData> ParseOff(std::string_view text) {
-  MeshFileData mesh;
-  LineReader lines(text);
+// The header keyword and the counts after it (on the same line or the next content line).
+StatusOr<OffCounts> ParseOffHeader(LineReader& lines, MeshFileData& mesh) {
   std::string_view line;
   if (!NextContentLine(lines, line, mesh.frame_rate)) {
     return ParseError("the file is empty (expected an OFF header)");
@@ -84,84 +87,104 @@ StatusOr<MeshFileData> ParseOff(std::string_view text) {
   } else if (TokenReader probe = counts; probe.Next(token) && token == "BINARY") {
     return UnsupportedError("binary OFF is not supported; convert it to ASCII OFF, OBJ or PLY");
   }
-  int64_t vertex_count = -1, face_count = -1, edge_count = 0;
-  if (!counts.Next(token) || !ParseNumber(token, vertex_count) || !counts.Next(token) ||
-      !ParseNumber(token, face_count) || (counts.Next(token) && !ParseNumber(token, edge_count)) ||
-      !counts.AtEnd() || vertex_count < 0 || face_count < 0 || vertex_count > INT32_MAX / 3 ||
-      face_count > INT32_MAX / 3) {
+  OffCounts result;
+  int64_t edge_count = 0;
+  if (!counts.Next(token) || !ParseNumber(token, result.vertices) || !counts.Next(token) ||
+      !ParseNumber(token, result.faces) ||
+      (counts.Next(token) && !ParseNumber(token, edge_count)) || !counts.AtEnd() ||
+      result.vertices < 0 || result.faces < 0 || result.vertices > INT32_MAX / 3 ||
+      result.faces > INT32_MAX / 3) {
     return LineError(lines.line_number(),
                      "expected 'vertices faces [edges]' counts, found " + Quote(line));
   }
+  return result;
+}
 
+// A vertex line: three coordinates, then numbers (colours, normals, ...) that are dropped.
+Status ParseOffVertex(std::string_view line, int line_number, MeshFileData& mesh) {
+  TokenReader tokens(line);
+  std::string_view token;
+  for (int axis = 0; axis < 3; ++axis) {
+    float value = 0.0f;
+    if (!tokens.Next(token)) {
+      return LineError(line_number,
+                       "vertex has " + std::to_string(axis) + " coordinate(s), expected 3");
+    }
+    if (!ParseNumber(token, value)) {
+      return LineError(line_number, "vertex coordinate " + Quote(token) + " is not a number");
+    }
+    mesh.positions.push_back(value);
+  }
+  std::string_view bad;
+  if (!RestAreNumbers(tokens, bad)) {
+    return LineError(line_number, "vertex line holds " + Quote(bad) + ", which is not a number");
+  }
+  return Status::Ok();
+}
+
+// A face line: the corner count, the corners, then numbers that are dropped; appended as a fan.
+Status ParseOffFace(std::string_view line, int line_number, int64_t vertex_count,
+                    std::vector<int32_t>& corners, MeshFileData& mesh) {
+  TokenReader tokens(line);
+  std::string_view token;
+  int64_t corner_count = 0;
+  if (!tokens.Next(token) || !ParseNumber(token, corner_count)) {
+    return LineError(line_number, "face corner count " + Quote(token) + " is not an integer");
+  }
+  if (corner_count < 3) {
+    return LineError(line_number, "face has " + std::to_string(corner_count) +
+                                      " corner(s), at least 3 are needed");
+  }
+  corners.clear();
+  for (int64_t k = 0; k < corner_count; ++k) {
+    int64_t index = 0;
+    if (!tokens.Next(token)) {
+      return LineError(line_number, "face declares " + std::to_string(corner_count) +
+                                        " corners but lists " + std::to_string(k));
+    }
+    if (!ParseNumber(token, index)) {
+      return LineError(line_number, "face index " + Quote(token) + " is not an integer");
+    }
+    if (index < 0 || index >= vertex_count) {
+      return LineError(line_number, "face index " + std::to_string(index) + " is outside [0, " +
+                                        std::to_string(vertex_count) + ")");
+    }
+    corners.push_back(static_cast<int32_t>(index));
+  }
+  std::string_view bad;
+  if (!RestAreNumbers(tokens, bad)) {
+    return LineError(line_number, "face line holds " + Quote(bad) + ", which is not a number");
+  }
+  if (corner_count > 3) ++mesh.polygons_triangulated;
+  AppendFan(corners, mesh);
+  return Status::Ok();
+}
+
+}  // namespace
+
+StatusOr<MeshFileData> ParseOff(std::string_view text) {
+  MeshFileData mesh;
+  LineReader lines(text);
+  DMC_ASSIGN_OR_RETURN(const OffCounts counts, ParseOffHeader(lines, mesh));
   // Counts come from the file: cap the reservation so a corrupt header cannot exhaust memory.
   const size_t kMaxReserve = size_t{1} << 22;
-  mesh.positions.reserve(std::min(static_cast<size_t>(vertex_count) * 3, kMaxReserve));
-  mesh.triangles.reserve(std::min(static_cast<size_t>(face_count) * 3, kMaxReserve));
-  for (int64_t v = 0; v < vertex_count; ++v) {
+  mesh.positions.reserve(std::min(static_cast<size_t>(counts.vertices) * 3, kMaxReserve));
+  mesh.triangles.reserve(std::min(static_cast<size_t>(counts.faces) * 3, kMaxReserve));
+  std::string_view line;
+  for (int64_t v = 0; v < counts.vertices; ++v) {
     if (!NextContentLine(lines, line, mesh.frame_rate)) {
       return ParseError("the file ends after " + std::to_string(v) + " of " +
-                        std::to_string(vertex_count) + " vertices");
+                        std::to_string(counts.vertices) + " vertices");
     }
-    TokenReader tokens(line);
-    for (int axis = 0; axis < 3; ++axis) {
-      float value = 0.0f;
-      if (!tokens.Next(token)) {
-        return LineError(lines.line_number(),
-                         "vertex has " + std::to_string(axis) + " coordinate(s), expected 3");
-      }
-      if (!ParseNumber(token, value)) {
-        return LineError(lines.line_number(),
-                         "vertex coordinate " + Quote(token) + " is not a number");
-      }
-      mesh.positions.push_back(value);
-    }
-    std::string_view bad;
-    if (!RestAreNumbers(tokens, bad)) {
-      return LineError(lines.line_number(),
-                       "vertex line holds " + Quote(bad) + ", which is not a number");
-    }
+    DMC_RETURN_IF_ERROR(ParseOffVertex(line, lines.line_number(), mesh));
   }
-
   std::vector<int32_t> corners;
-  for (int64_t f = 0; f < face_count; ++f) {
+  for (int64_t f = 0; f < counts.faces; ++f) {
     if (!NextContentLine(lines, line, mesh.frame_rate)) {
       return ParseError("the file ends after " + std::to_string(f) + " of " +
-                        std::to_string(face_count) + " faces");
+                        std::to_string(counts.faces) + " faces");
     }
-    TokenReader tokens(line);
-    int64_t corner_count = 0;
-    if (!tokens.Next(token) || !ParseNumber(token, corner_count)) {
-      return LineError(lines.line_number(),
-                       "face corner count " + Quote(token) + " is not an integer");
-    }
-    if (corner_count < 3) {
-      return LineError(lines.line_number(), "face has " + std::to_string(corner_count) +
-                                                " corner(s), at least 3 are needed");
-    }
-    corners.clear();
-    for (int64_t k = 0; k < corner_count; ++k) {
-      int64_t index = 0;
-      if (!tokens.Next(token)) {
-        return LineError(lines.line_number(), "face declares " + std::to_string(corner_count) +
-                                                  " corners but lists " + std::to_string(k));
-      }
-      if (!ParseNumber(token, index)) {
-        return LineError(lines.line_number(), "face index " + Quote(token) + " is not an integer");
-      }
-      if (index < 0 || index >= vertex_count) {
-        return LineError(lines.line_number(), "face index " + std::to_string(index) +
-                                                  " is outside [0, " +
-                                                  std::to_string(vertex_count) + ")");
-      }
-      corners.push_back(static_cast<int32_t>(index));
-    }
-    std::string_view bad;
-    if (!RestAreNumbers(tokens, bad)) {
-      return LineError(lines.line_number(),
-                       "face line holds " + Quote(bad) + ", which is not a number");
-    }
-    if (corner_count > 3) ++mesh.polygons_triangulated;
-    AppendFan(corners, mesh);
+    DMC_RETURN_IF_ERROR(ParseOffFace(line, lines.line_number(), counts.vertices, corners, mesh));
   }
   if (NextContentLine(lines, line, mesh.frame_rate)) {
     return LineError(lines.line_number(), "unexpected content after the last declared face");

@@ -72,6 +72,72 @@ Status LineError(int line, const std::string& what) {
   return ParseError("line " + std::to_string(line) + ": " + what);
 }
 
+// "format <encoding> 1.0".
+Status ParseFormatLine(TokenReader& tokens, int line_number, PlyHeader& header) {
+  std::string_view encoding, version;
+  if (!tokens.Next(encoding) || !tokens.Next(version) || version != "1.0") {
+    return LineError(line_number, "expected 'format <encoding> 1.0'");
+  }
+  if (encoding == "ascii") {
+    header.encoding = PlyEncoding::kAscii;
+  } else if (encoding == "binary_little_endian") {
+    header.encoding = PlyEncoding::kBinaryLittleEndian;
+  } else if (encoding == "binary_big_endian") {
+    header.encoding = PlyEncoding::kBinaryBigEndian;
+  } else {
+    return LineError(line_number, "unknown PLY encoding " + Quote(encoding));
+  }
+  return Status::Ok();
+}
+
+// "element <name> <count>".
+Status ParseElementLine(TokenReader& tokens, int line_number, PlyHeader& header) {
+  PlyElement element;
+  std::string_view name, token;
+  if (!tokens.Next(name) || !tokens.Next(token) || !ParseNumber(token, element.count) ||
+      element.count < 0 || element.count > INT32_MAX / 3) {
+    return LineError(line_number, "expected 'element <name> <count>'");
+  }
+  element.name = std::string(name);
+  header.elements.push_back(std::move(element));
+  return Status::Ok();
+}
+
+// "property <type> <name>" or "property list <count type> <type> <name>", of the last element.
+Status ParsePropertyLine(TokenReader& tokens, int line_number, PlyHeader& header) {
+  if (header.elements.empty()) return LineError(line_number, "property before any element");
+  PlyProperty property;
+  std::string_view type, name;
+  if (!tokens.Next(type)) return LineError(line_number, "property without a type");
+  if (type == "list") {
+    std::string_view count_type;
+    property.is_list = true;
+    if (tokens.Next(count_type)) property.count_type = TypeOf(count_type);
+    if (property.count_type.kind != PlyNumber::kInteger || !tokens.Next(type)) {
+      return LineError(line_number, "expected 'property list <integer type> <type> <name>'");
+    }
+  }
+  const PlyType value_type = TypeOf(type);
+  property.value_kind = value_type.kind;
+  property.value_bytes = value_type.bytes;
+  if (property.value_kind == PlyNumber::kUnknown || !tokens.Next(name)) {
+    return LineError(line_number, "expected 'property <type> <name>' with a PLY type");
+  }
+  property.name = std::string(name);
+  header.elements.back().properties.push_back(std::move(property));
+  return Status::Ok();
+}
+
+// "comment dmc frame_rate 25" (written by WriteSequence); other comments are ignored.
+void ReadFrameRateComment(TokenReader& tokens, PlyHeader& header) {
+  std::string_view word, value;
+  double parsed = 0.0;
+  if (tokens.Next(word) && word == "dmc" && tokens.Next(word) && word == "frame_rate" &&
+      tokens.Next(value) && ParseNumber(value, parsed) && parsed > 0.0) {
+    header.frame_rate = parsed;
+  }
+}
+
 StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
   PlyHeader header;
   LineReader lines(bytes);
@@ -90,67 +156,20 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
       }
     }
     TokenReader tokens(line);
-    std::string_view keyword, token;
+    std::string_view keyword;
     if (!tokens.Next(keyword)) continue;
     if (keyword == "end_header") break;
-    if (keyword == "comment" || keyword == "obj_info") {
-      std::string_view word, value;
-      double parsed = 0.0;
-      if (keyword == "comment" && tokens.Next(word) && word == "dmc" && tokens.Next(word) &&
-          word == "frame_rate" && tokens.Next(value) && ParseNumber(value, parsed) &&
-          parsed > 0.0) {
-        header.frame_rate = parsed;
-      }
+    if (keyword == "comment") {
+      ReadFrameRateComment(tokens, header);
+    } else if (keyword == "obj_info") {
       continue;
-    }
-    if (keyword == "format") {
-      std::string_view encoding, version;
-      if (!tokens.Next(encoding) || !tokens.Next(version) || version != "1.0") {
-        return LineError(lines.line_number(), "expected 'format <encoding> 1.0'");
-      }
-      if (encoding == "ascii") {
-        header.encoding = PlyEncoding::kAscii;
-      } else if (encoding == "binary_little_endian") {
-        header.encoding = PlyEncoding::kBinaryLittleEndian;
-      } else if (encoding == "binary_big_endian") {
-        header.encoding = PlyEncoding::kBinaryBigEndian;
-      } else {
-        return LineError(lines.line_number(), "unknown PLY encoding " + Quote(encoding));
-      }
+    } else if (keyword == "format") {
+      DMC_RETURN_IF_ERROR(ParseFormatLine(tokens, lines.line_number(), header));
       have_format = true;
     } else if (keyword == "element") {
-      PlyElement element;
-      std::string_view name;
-      if (!tokens.Next(name) || !tokens.Next(token) || !ParseNumber(token, element.count) ||
-          element.count < 0 || element.count > INT32_MAX / 3) {
-        return LineError(lines.line_number(), "expected 'element <name> <count>'");
-      }
-      element.name = std::string(name);
-      header.elements.push_back(std::move(element));
+      DMC_RETURN_IF_ERROR(ParseElementLine(tokens, lines.line_number(), header));
     } else if (keyword == "property") {
-      if (header.elements.empty()) {
-        return LineError(lines.line_number(), "property before any element");
-      }
-      PlyProperty property;
-      std::string_view type, name;
-      if (!tokens.Next(type)) return LineError(lines.line_number(), "property without a type");
-      if (type == "list") {
-        std::string_view count_type;
-        property.is_list = true;
-        if (tokens.Next(count_type)) property.count_type = TypeOf(count_type);
-        if (property.count_type.kind != PlyNumber::kInteger || !tokens.Next(type)) {
-          return LineError(lines.line_number(),
-                           "expected 'property list <integer type> <type> <name>'");
-        }
-      }
-      const PlyType value_type = TypeOf(type);
-      property.value_kind = value_type.kind;
-      property.value_bytes = value_type.bytes;
-      if (property.value_kind == PlyNumber::kUnknown || !tokens.Next(name)) {
-        return LineError(lines.line_number(), "expected 'property <type> <name>' with a PLY type");
-      }
-      property.name = std::string(name);
-      header.elements.back().properties.push_back(std::move(property));
+      DMC_RETURN_IF_ERROR(ParsePropertyLine(tokens, lines.line_number(), header));
     } else {
       return LineError(lines.line_number(), "unknown header line " + Quote(keyword));
     }
@@ -190,6 +209,76 @@ class BodyTokens {
   TokenReader tokens_;
 };
 
+// The values of one property of entry `index` of `element`: vertex coordinates into
+// mesh.positions, a face's corner list fanned into mesh.triangles, anything else checked and
+// dropped.
+Status ParseAsciiProperty(BodyTokens& tokens, const PlyElement& element, int64_t index,
+                          const PlyProperty& property, int64_t vertex_count,
+                          std::vector<int32_t>& corners, MeshFileData& mesh) {
+  const bool is_vertex = element.name == "vertex";
+  const bool is_face = element.name == "face";
+  std::string_view token;
+  int64_t values = 1;
+  if (property.is_list) {
+    if (!tokens.Next(token)) {
+      return ParseError("the body ends inside element '" + element.name + "' " +
+                        std::to_string(index) + " of " + std::to_string(element.count));
+    }
+    if (!ParseNumber(token, values) || values < 0) {
+      return LineError(tokens.line(), "list count " + Quote(token) + " of property '" +
+                                          property.name + "' is not a non-negative integer");
+    }
+  }
+  const bool is_corner_list =
+      is_face && property.is_list &&
+      (property.name == "vertex_indices" || property.name == "vertex_index");
+  int axis = -1;  // 0, 1, 2 for the vertex coordinates x, y, z
+  if (is_vertex && !property.is_list && property.name.size() == 1) {
+    const size_t found = std::string_view("xyz").find(property.name[0]);
+    if (found != std::string_view::npos) axis = static_cast<int>(found);
+  }
+  for (int64_t k = 0; k < values; ++k) {
+    if (!tokens.Next(token)) {
+      return ParseError("the body ends inside element '" + element.name + "' " +
+                        std::to_string(index) + " of " + std::to_string(element.count));
+    }
+    bool ok = false;
+    if (axis >= 0) {
+      ok = ParseNumber(token,
+                       mesh.positions[static_cast<size_t>(index) * 3 + static_cast<size_t>(axis)]);
+    } else if (property.value_kind == PlyNumber::kInteger) {
+      int64_t value = 0;
+      ok = ParseNumber(token, value);
+      if (ok && is_corner_list) {
+        if (value < 0 || value >= vertex_count) {
+          return LineError(tokens.line(),
+                           "face index " + std::to_string(value) + " is outside [0, " +
+                               std::to_string(std::max<int64_t>(vertex_count, 0)) + ")");
+        }
+        corners.push_back(static_cast<int32_t>(value));
+      }
+    } else {
+      double value = 0.0;
+      ok = ParseNumber(token, value);
+    }
+    if (!ok) {
+      return LineError(
+          tokens.line(),
+          "value " + Quote(token) + " of property '" + property.name + "' is not " +
+              (property.value_kind == PlyNumber::kInteger ? "an integer" : "a number"));
+    }
+  }
+  if (is_corner_list) {
+    if (corners.size() < 3) {
+      return LineError(tokens.line(), "face has " + std::to_string(corners.size()) +
+                                          " corner(s), at least 3 are needed");
+    }
+    if (corners.size() > 3) ++mesh.polygons_triangulated;
+    AppendFan(corners, mesh);
+  }
+  return Status::Ok();
+}
+
 StatusOr<MeshFileData> ParseAsciiBody(std::string_view body, const PlyHeader& header) {
   MeshFileData mesh;
   BodyTokens tokens(body, header.body_first_line);
@@ -202,71 +291,12 @@ StatusOr<MeshFileData> ParseAsciiBody(std::string_view body, const PlyHeader& he
   // declared count with one big allocation.
   mesh.positions.reserve(std::min<size_t>(static_cast<size_t>(vertex_count) * 3, size_t{1} << 22));
   for (const PlyElement& element : header.elements) {
-    const bool is_vertex = element.name == "vertex";
-    const bool is_face = element.name == "face";
     for (int64_t i = 0; i < element.count; ++i) {
       corners.clear();
-      if (is_vertex) mesh.positions.resize(mesh.positions.size() + 3, 0.0f);
+      if (element.name == "vertex") mesh.positions.resize(mesh.positions.size() + 3, 0.0f);
       for (const PlyProperty& property : element.properties) {
-        std::string_view token;
-        int64_t values = 1;
-        if (property.is_list) {
-          if (!tokens.Next(token)) {
-            return ParseError("the body ends inside element '" + element.name + "' " +
-                              std::to_string(i) + " of " + std::to_string(element.count));
-          }
-          if (!ParseNumber(token, values) || values < 0) {
-            return LineError(tokens.line(), "list count " + Quote(token) + " of property '" +
-                                                property.name + "' is not a non-negative integer");
-          }
-        }
-        const bool is_corner_list =
-            is_face && property.is_list &&
-            (property.name == "vertex_indices" || property.name == "vertex_index");
-        int axis = -1;  // 0, 1, 2 for the vertex coordinates x, y, z
-        if (is_vertex && !property.is_list && property.name.size() == 1) {
-          const size_t found = std::string_view("xyz").find(property.name[0]);
-          if (found != std::string_view::npos) axis = static_cast<int>(found);
-        }
-        for (int64_t k = 0; k < values; ++k) {
-          if (!tokens.Next(token)) {
-            return ParseError("the body ends inside element '" + element.name + "' " +
-                              std::to_string(i) + " of " + std::to_string(element.count));
-          }
-          bool ok = false;
-          if (axis >= 0) {
-            ok = ParseNumber(
-                token, mesh.positions[static_cast<size_t>(i) * 3 + static_cast<size_t>(axis)]);
-          } else if (property.value_kind == PlyNumber::kInteger) {
-            int64_t value = 0;
-            ok = ParseNumber(token, value);
-            if (ok && is_corner_list) {
-              if (value < 0 || value >= vertex_count) {
-                return LineError(tokens.line(),
-                                 "face index " + std::to_string(value) + " is outside [0, " +
-                                     std::to_string(std::max<int64_t>(vertex_count, 0)) + ")");
-              }
-              corners.push_back(static_cast<int32_t>(value));
-            }
-          } else {
-            double value = 0.0;
-            ok = ParseNumber(token, value);
-          }
-          if (!ok) {
-            return LineError(
-                tokens.line(),
-                "value " + Quote(token) + " of property '" + property.name + "' is not " +
-                    (property.value_kind == PlyNumber::kInteger ? "an integer" : "a number"));
-          }
-        }
-        if (is_corner_list) {
-          if (corners.size() < 3) {
-            return LineError(tokens.line(), "face has " + std::to_string(corners.size()) +
-                                                " corner(s), at least 3 are needed");
-          }
-          if (corners.size() > 3) ++mesh.polygons_triangulated;
-          AppendFan(corners, mesh);
-        }
+        DMC_RETURN_IF_ERROR(
+            ParseAsciiProperty(tokens, element, i, property, vertex_count, corners, mesh));
       }
     }
   }
