@@ -19,7 +19,6 @@
 #include "decoder/segment_reconstruction.h"
 #include "decoder/syntax_reader.h"
 #include "dmc/decoder.h"
-#include "dmc/io.h"
 #include "dmc/topology.h"
 #include "entropy/byte_io.h"
 
@@ -28,7 +27,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// Streaming XXH64 over signed 64-bit little-endian values: the digest input of spec §11.2.
+// Streaming XXH64 over signed 64-bit little-endian values: the digest input of spec §12.2.
 class IntegerDigest {
  public:
   IntegerDigest() : state_(XXH64_createState()) { XXH64_reset(state_, 0); }
@@ -501,10 +500,6 @@ std::vector<std::filesystem::path> FindManifests(const std::filesystem::path& ro
 
 StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& path) {
   return ReadFileBytes(path);
-}
-
-Status WriteBytes(const std::filesystem::path& path, std::span<const uint8_t> bytes) {
-  return WriteFileAtomically(path, bytes);
 }
 
 }  // namespace dmc::conformance

@@ -1,7 +1,7 @@
 // Conformance-vector toolkit shared by the runner (dmc_conform) and the generator
 // (dmc_conformance_generate): container framing, the syntax digests, the reference-position
 // files, the tolerance check and the manifests. Normative definitions: bitstream-spec/dmc-format.md
-// §11 (Conformance).
+// §12 (Conformance).
 //
 // Contract: every function is safe on untrusted bytes (the runner feeds it hostile vectors) and
 // reports failure through Status; nothing here throws across its API (JSON parse errors are
@@ -23,7 +23,7 @@
 namespace dmc::conformance {
 
 // Tolerance a conforming decoder must meet on every decoded coordinate x against the reference
-// value r (spec §11.3): |x - r| <= kToleranceDiagonalFraction * D + kToleranceValueFraction * |r|,
+// value r (spec §12.3): |x - r| <= kToleranceDiagonalFraction * D + kToleranceValueFraction * |r|,
 // D the bounding-box diagonal of the reference sequence over all frames. The second term allows
 // float32 rounding of large coordinates (2 ulp); the first is far below any quantisation step
 // the format can express relative to D, yet far above double-precision solver differences.
@@ -65,7 +65,7 @@ struct ParsedStream {
 };
 StatusOr<ParsedStream> ParseStream(std::span<const uint8_t> stream);
 
-// The syntax digests of spec §11.2: XXH64 (seed 0) over the entropy-decoded integers of the
+// The syntax digests of spec §12.2: XXH64 (seed 0) over the entropy-decoded integers of the
 // connectivity chunk and of each segment, in the order the spec lists. Computed by parsing the
 // stream with the reference decoder's syntax readers; fails with the decoder's error on an
 // invalid stream.
@@ -120,8 +120,10 @@ VectorResult CheckVector(const std::filesystem::path& manifest_path, const Check
 // Every *.json manifest under `root` (recursively), sorted by path.
 std::vector<std::filesystem::path> FindManifests(const std::filesystem::path& root);
 
-// Reads a whole file; writes a whole file (atomically, via dmc::WriteFileAtomically).
+// Reads a whole file.
 StatusOr<std::vector<uint8_t>> ReadBytes(const std::filesystem::path& path);
+// Writes a whole file atomically (dmc::WriteFileAtomically). Defined in vector_writer.cpp, in
+// dmc_conformance_writer, the generator's library: the runner never writes.
 Status WriteBytes(const std::filesystem::path& path, std::span<const uint8_t> bytes);
 
 }  // namespace dmc::conformance
