@@ -15,17 +15,20 @@
 
 namespace dmc {
 
+// Zig-zag mapping of signed to unsigned values, small magnitudes first:
+// 0, -1, 1, -2, 2, ... -> 0, 1, 2, 3, 4, ...
+constexpr uint64_t ZigZagEncode(int64_t value) {
+  return (static_cast<uint64_t>(value) << 1) ^ static_cast<uint64_t>(value >> 63);
+}
+constexpr int64_t ZigZagDecode(uint64_t value) {
+  return static_cast<int64_t>(value >> 1) ^ -static_cast<int64_t>(value & 1);
+}
+
 class ByteWriter {
  public:
   void PutU8(uint8_t value) { bytes_.push_back(value); }
-  void PutU16(uint16_t value) { PutLittleEndian(value, 2); }
   void PutU32(uint32_t value) { PutLittleEndian(value, 4); }
   void PutU64(uint64_t value) { PutLittleEndian(value, 8); }
-  void PutF32(float value) {
-    uint32_t bits;
-    std::memcpy(&bits, &value, 4);
-    PutU32(bits);
-  }
   void PutF64(double value) {
     uint64_t bits;
     std::memcpy(&bits, &value, 8);
@@ -39,10 +42,8 @@ class ByteWriter {
     }
     bytes_.push_back(static_cast<uint8_t>(value));
   }
-  // Signed values are zig-zag mapped (0, -1, 1, -2, ... -> 0, 1, 2, 3, ...) then PutVarU.
-  void PutVarS(int64_t value) {
-    PutVarU((static_cast<uint64_t>(value) << 1) ^ static_cast<uint64_t>(value >> 63));
-  }
+  // Signed values are zig-zag mapped, then PutVarU.
+  void PutVarS(int64_t value) { PutVarU(ZigZagEncode(value)); }
   void PutBytes(std::span<const uint8_t> data) {
     bytes_.insert(bytes_.end(), data.begin(), data.end());
   }
@@ -53,7 +54,6 @@ class ByteWriter {
 
   size_t size() const { return bytes_.size(); }
   const std::vector<uint8_t>& bytes() const { return bytes_; }
-  std::vector<uint8_t>& mutable_bytes() { return bytes_; }
   std::vector<uint8_t> Take() { return std::move(bytes_); }
 
  private:
@@ -76,17 +76,10 @@ class ByteReader {
     *value = data_[position_++];
     return Status::Ok();
   }
-  Status GetU16(uint16_t* value, std::string_view field) { return GetLE(value, 2, field); }
   Status GetU32(uint32_t* value, std::string_view field) { return GetLE(value, 4, field); }
   Status GetU64(uint64_t* value, std::string_view field) { return GetLE(value, 8, field); }
-  Status GetF32(float* value, std::string_view field) {
-    uint32_t bits;
-    DMC_RETURN_IF_ERROR(GetU32(&bits, field));
-    std::memcpy(value, &bits, 4);
-    return Status::Ok();
-  }
   Status GetF64(double* value, std::string_view field) {
-    uint64_t bits;
+    uint64_t bits = 0;
     DMC_RETURN_IF_ERROR(GetU64(&bits, field));
     std::memcpy(value, &bits, 8);
     return Status::Ok();
@@ -108,7 +101,7 @@ class ByteReader {
   Status GetVarS(int64_t* value, std::string_view field) {
     uint64_t raw;
     DMC_RETURN_IF_ERROR(GetVarU(&raw, field));
-    *value = static_cast<int64_t>(raw >> 1) ^ -static_cast<int64_t>(raw & 1);
+    *value = ZigZagDecode(raw);
     return Status::Ok();
   }
   // Reads a varint and checks it lies in [min_value, max_value].

@@ -19,100 +19,41 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
+
+#include "entropy/byte_io.h"
 
 namespace dmc::sweep {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
-// Little-endian byte streams with bounds-checked reads (the baselines' own containers).
+// The baselines' containers: the codec's byte streams (entropy/byte_io.h) plus length-prefixed
+// blocks.
 
-class ByteSink {
- public:
-  void PutVarU(uint64_t value) {
-    while (value >= 0x80) {
-      bytes_.push_back(static_cast<uint8_t>(value | 0x80));
-      value >>= 7;
-    }
-    bytes_.push_back(static_cast<uint8_t>(value));
-  }
-  void PutF64(double value) {
-    uint64_t bits;
-    std::memcpy(&bits, &value, sizeof bits);
-    for (int k = 0; k < 8; ++k) bytes_.push_back(static_cast<uint8_t>(bits >> (8 * k)));
-  }
-  void PutBytes(std::span<const uint8_t> bytes) {
-    bytes_.insert(bytes_.end(), bytes.begin(), bytes.end());
-  }
-  // A length-prefixed block.
-  void PutBlock(std::span<const uint8_t> bytes) {
-    PutVarU(bytes.size());
-    PutBytes(bytes);
-  }
-  std::vector<uint8_t>& bytes() { return bytes_; }
+void PutBlock(ByteWriter& sink, std::span<const uint8_t> bytes) {
+  sink.PutVarU(bytes.size());
+  sink.PutBytes(bytes);
+}
 
- private:
-  std::vector<uint8_t> bytes_;
-};
+Status GetBlock(ByteReader& source, std::span<const uint8_t>* bytes, std::string_view what) {
+  uint64_t size;
+  DMC_RETURN_IF_ERROR(source.GetVarU(&size, what));
+  return source.GetBytes(static_cast<size_t>(size), bytes, what);
+}
 
-class ByteSource {
- public:
-  explicit ByteSource(std::span<const uint8_t> bytes) : bytes_(bytes) {}
+Status GetFiniteF64(ByteReader& source, double* value, std::string_view what) {
+  DMC_RETURN_IF_ERROR(source.GetF64(value, what));
+  if (!std::isfinite(*value)) return CorruptStreamError(std::string(what) + " is not finite");
+  return Status::Ok();
+}
 
-  Status GetVarU(uint64_t* value, const char* what) {
-    *value = 0;
-    for (int shift = 0; shift < 64; shift += 7) {
-      if (position_ >= bytes_.size()) return Truncated(what);
-      const uint8_t byte = bytes_[position_++];
-      *value |= static_cast<uint64_t>(byte & 0x7F) << shift;
-      if ((byte & 0x80) == 0) return Status::Ok();
-    }
-    return CorruptStreamError(std::string(what) + ": varint longer than 64 bits");
+Status ExpectEnd(const ByteReader& source, std::string_view what) {
+  if (!source.at_end()) {
+    return CorruptStreamError(std::string(what) + ": " + std::to_string(source.remaining()) +
+                              " trailing bytes");
   }
-  // A varint that must lie in [0, limit].
-  Status GetCount(uint64_t limit, uint64_t* value, const char* what) {
-    DMC_RETURN_IF_ERROR(GetVarU(value, what));
-    if (*value > limit) {
-      return CorruptStreamError(std::string(what) + " " + std::to_string(*value) +
-                                " exceeds its limit " + std::to_string(limit));
-    }
-    return Status::Ok();
-  }
-  Status GetF64(double* value, const char* what) {
-    if (bytes_.size() - position_ < 8) return Truncated(what);
-    uint64_t bits = 0;
-    for (int k = 0; k < 8; ++k) bits |= static_cast<uint64_t>(bytes_[position_ + k]) << (8 * k);
-    position_ += 8;
-    std::memcpy(value, &bits, sizeof bits);
-    if (!std::isfinite(*value)) return CorruptStreamError(std::string(what) + " is not finite");
-    return Status::Ok();
-  }
-  Status GetBytes(size_t count, std::span<const uint8_t>* bytes, const char* what) {
-    if (bytes_.size() - position_ < count) return Truncated(what);
-    *bytes = bytes_.subspan(position_, count);
-    position_ += count;
-    return Status::Ok();
-  }
-  Status GetBlock(std::span<const uint8_t>* bytes, const char* what) {
-    uint64_t size;
-    DMC_RETURN_IF_ERROR(GetVarU(&size, what));
-    if (size > bytes_.size() - position_) return Truncated(what);
-    return GetBytes(static_cast<size_t>(size), bytes, what);
-  }
-  Status ExpectEnd(const char* what) const {
-    if (position_ != bytes_.size()) {
-      return CorruptStreamError(std::string(what) + ": " +
-                                std::to_string(bytes_.size() - position_) + " trailing bytes");
-    }
-    return Status::Ok();
-  }
-
- private:
-  static Status Truncated(const char* what) {
-    return TruncatedStreamError(std::string("stream ends inside ") + what);
-  }
-  std::span<const uint8_t> bytes_;
-  size_t position_ = 0;
-};
+  return Status::Ok();
+}
 
 // Limits a decoder accepts before allocating from a stream's own counts.
 constexpr uint64_t kMaxVertices = uint64_t{1} << 28;
@@ -169,21 +110,21 @@ Grid MakeGrid(const MeshSequence& sequence, int bits) {
   return grid;
 }
 
-void PutGrid(ByteSink& sink, const Grid& grid, int bits) {
+void PutGrid(ByteWriter& sink, const Grid& grid, int bits) {
   sink.PutVarU(static_cast<uint64_t>(bits));
   for (int axis = 0; axis < 3; ++axis) sink.PutF64(grid.origin[axis]);
   sink.PutF64(grid.step);
 }
 
-Status GetGrid(ByteSource& source, Grid* grid) {
+Status GetGrid(ByteReader& source, Grid* grid) {
   uint64_t bits;
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxBaselineBits, &bits, "quantisation bits"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&bits, 0, kMaxBaselineBits, "quantisation bits"));
   if (bits < 1) return CorruptStreamError("quantisation bits are 0");
   grid->max_level = (uint32_t{1} << bits) - 1;
   for (int axis = 0; axis < 3; ++axis) {
-    DMC_RETURN_IF_ERROR(source.GetF64(&grid->origin[axis], "grid origin"));
+    DMC_RETURN_IF_ERROR(GetFiniteF64(source, &grid->origin[axis], "grid origin"));
   }
-  DMC_RETURN_IF_ERROR(source.GetF64(&grid->step, "grid step"));
+  DMC_RETURN_IF_ERROR(GetFiniteF64(source, &grid->step, "grid step"));
   if (!(grid->step > 0.0)) return CorruptStreamError("grid step is not positive");
   return Status::Ok();
 }
@@ -256,7 +197,7 @@ StatusOr<BaselineStream> EncodeDraco(const MeshSequence& sequence, int bits) {
   // Bookkeeping only (the bytes do not change): makes num_encoded_faces() available.
   options.SetGlobalBool("store_number_of_encoded_faces", true);
 
-  ByteSink sink;
+  ByteWriter sink;
   sink.PutVarU(static_cast<uint64_t>(sequence.frame_count()));
   BaselineStream stream;
   for (int f = 0; f < sequence.frame_count(); ++f) {
@@ -301,21 +242,21 @@ StatusOr<BaselineStream> EncodeDraco(const MeshSequence& sequence, int bits) {
     } else if (input_vertex != stream.input_vertex) {
       return InternalError("Draco chose a different vertex order in frame " + std::to_string(f));
     }
-    sink.PutBlock({reinterpret_cast<const uint8_t*>(buffer.data()), buffer.size()});
+    PutBlock(sink, {reinterpret_cast<const uint8_t*>(buffer.data()), buffer.size()});
   }
-  stream.bytes = std::move(sink.bytes());
+  stream.bytes = sink.Take();
   return stream;
 }
 
 StatusOr<MeshSequence> DecodeDraco(std::span<const uint8_t> bytes) {
-  ByteSource source(bytes);
+  ByteReader source(bytes);
   uint64_t frame_count;
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxFrames, &frame_count, "frame count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&frame_count, 0, kMaxFrames, "frame count"));
   if (frame_count == 0) return CorruptStreamError("stream declares no frames");
   MeshSequence sequence;
   for (uint64_t f = 0; f < frame_count; ++f) {
     std::span<const uint8_t> block;
-    DMC_RETURN_IF_ERROR(source.GetBlock(&block, "Draco frame"));
+    DMC_RETURN_IF_ERROR(GetBlock(source, &block, "Draco frame"));
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(block.data()), block.size());
     draco::Decoder decoder;
@@ -358,7 +299,7 @@ StatusOr<MeshSequence> DecodeDraco(std::span<const uint8_t> bytes) {
     }
     DMC_RETURN_IF_ERROR(sequence.AppendFrame(positions));
   }
-  DMC_RETURN_IF_ERROR(source.ExpectEnd("draco stream"));
+  DMC_RETURN_IF_ERROR(ExpectEnd(source, "draco stream"));
   return sequence;
 }
 
@@ -397,14 +338,14 @@ StatusOr<BaselineStream> EncodeMeshopt(const MeshSequence& sequence, int bits) {
   for (size_t v = 0; v < vertex_count; ++v) stream.input_vertex[remap[v]] = static_cast<int32_t>(v);
 
   const Grid grid = MakeGrid(sequence, bits);
-  ByteSink sink;
+  ByteWriter sink;
   sink.PutVarU(vertex_count);
   sink.PutVarU(static_cast<uint64_t>(sequence.triangle_count()));
   sink.PutVarU(static_cast<uint64_t>(sequence.frame_count()));
   PutGrid(sink, grid, bits);
   std::vector<uint8_t> coded(meshopt_encodeIndexBufferBound(index_count, vertex_count));
   coded.resize(meshopt_encodeIndexBuffer(coded.data(), coded.size(), indices.data(), index_count));
-  sink.PutBlock(coded);
+  PutBlock(sink, coded);
 
   std::vector<QuantizedVertex> vertices(vertex_count, QuantizedVertex{{0, 0, 0, 0}});
   coded.resize(meshopt_encodeVertexBufferBound(vertex_count, sizeof(QuantizedVertex)));
@@ -418,7 +359,7 @@ StatusOr<BaselineStream> EncodeMeshopt(const MeshSequence& sequence, int bits) {
     }
     const size_t size = meshopt_encodeVertexBuffer(coded.data(), coded.size(), vertices.data(),
                                                    vertex_count, sizeof(QuantizedVertex));
-    sink.PutBlock({coded.data(), size});
+    PutBlock(sink, {coded.data(), size});
   }
   stream.bytes = ZstdCompress(sink.bytes());
   if (stream.bytes.empty()) return InternalError("zstd failed to compress the meshopt stream");
@@ -427,17 +368,17 @@ StatusOr<BaselineStream> EncodeMeshopt(const MeshSequence& sequence, int bits) {
 
 StatusOr<MeshSequence> DecodeMeshopt(std::span<const uint8_t> bytes) {
   DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> payload, ZstdDecompress(bytes));
-  ByteSource source(payload);
+  ByteReader source(payload);
   uint64_t vertex_count, triangle_count, frame_count;
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxVertices, &vertex_count, "vertex count"));
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxTriangles, &triangle_count, "triangle count"));
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxFrames, &frame_count, "frame count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&vertex_count, 0, kMaxVertices, "vertex count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&triangle_count, 0, kMaxTriangles, "triangle count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&frame_count, 0, kMaxFrames, "frame count"));
   DMC_RETURN_IF_ERROR(CheckSequenceSize(vertex_count, triangle_count, frame_count));
   Grid grid;
   DMC_RETURN_IF_ERROR(GetGrid(source, &grid));
 
   std::span<const uint8_t> block;
-  DMC_RETURN_IF_ERROR(source.GetBlock(&block, "index buffer"));
+  DMC_RETURN_IF_ERROR(GetBlock(source, &block, "index buffer"));
   const size_t index_count = static_cast<size_t>(triangle_count) * 3;
   std::vector<uint32_t> indices(index_count);
   if (meshopt_decodeIndexBuffer(indices.data(), index_count, sizeof(uint32_t), block.data(),
@@ -456,7 +397,7 @@ StatusOr<MeshSequence> DecodeMeshopt(std::span<const uint8_t> bytes) {
                         static_cast<int>(frame_count));
   std::vector<QuantizedVertex> vertices(vertex_count);
   for (uint64_t f = 0; f < frame_count; ++f) {
-    DMC_RETURN_IF_ERROR(source.GetBlock(&block, "vertex buffer"));
+    DMC_RETURN_IF_ERROR(GetBlock(source, &block, "vertex buffer"));
     if (meshopt_decodeVertexBuffer(vertices.data(), vertex_count, sizeof(QuantizedVertex),
                                    block.data(), block.size()) != 0) {
       return CorruptStreamError("meshopt cannot decode the vertex buffer of frame " +
@@ -469,19 +410,12 @@ StatusOr<MeshSequence> DecodeMeshopt(std::span<const uint8_t> bytes) {
       }
     }
   }
-  DMC_RETURN_IF_ERROR(source.ExpectEnd("meshopt stream"));
+  DMC_RETURN_IF_ERROR(ExpectEnd(source, "meshopt stream"));
   return sequence;
 }
 
 // ---------------------------------------------------------------------------------------------
 // zstd
-
-uint32_t ZigZag(int64_t value) {
-  return static_cast<uint32_t>(value < 0 ? -2 * value - 1 : 2 * value);
-}
-int64_t UnZigZag(uint32_t value) {
-  return (value & 1u) ? -static_cast<int64_t>((value + 1ull) / 2) : static_cast<int64_t>(value / 2);
-}
 
 StatusOr<BaselineStream> EncodeZstd(const MeshSequence& sequence, int bits) {
   const int vertex_count = sequence.vertex_count();
@@ -497,7 +431,7 @@ StatusOr<BaselineStream> EncodeZstd(const MeshSequence& sequence, int bits) {
     for (int axis = 0; axis < 3; ++axis) {
       for (int v = 0; v < vertex_count; ++v) {
         const int64_t level = grid.Quantize(frame(v, axis), axis);
-        const uint32_t coded = ZigZag(level - previous[3 * v + axis]);
+        const auto coded = static_cast<uint32_t>(ZigZagEncode(level - previous[3 * v + axis]));
         previous[3 * v + axis] = level;
         values[(static_cast<size_t>(f) * 3 + axis) * vertex_count + v] = coded;
         largest = std::max(largest, coded);
@@ -506,43 +440,41 @@ StatusOr<BaselineStream> EncodeZstd(const MeshSequence& sequence, int bits) {
   }
   const int width = largest < (1u << 8) ? 1 : largest < (1u << 16) ? 2 : 4;
 
-  ByteSink sink;
+  ByteWriter sink;
   sink.PutVarU(static_cast<uint64_t>(vertex_count));
   sink.PutVarU(static_cast<uint64_t>(sequence.triangle_count()));
   sink.PutVarU(static_cast<uint64_t>(frame_count));
   PutGrid(sink, grid, bits);
   sink.PutVarU(static_cast<uint64_t>(width));
-  std::vector<uint8_t>& out = sink.bytes();
   for (Eigen::Index i = 0; i < sequence.triangles().size(); ++i) {
-    const auto index = static_cast<uint32_t>(sequence.triangles().data()[i]);
-    for (int k = 0; k < 4; ++k) out.push_back(static_cast<uint8_t>(index >> (8 * k)));
+    sink.PutU32(static_cast<uint32_t>(sequence.triangles().data()[i]));
   }
   // Byte planes per (frame, axis) row of V values: all lowest bytes, then the next ones.
   for (size_t row = 0; row < static_cast<size_t>(frame_count) * 3; ++row) {
     const uint32_t* row_values = values.data() + row * vertex_count;
     for (int plane = 0; plane < width; ++plane) {
       for (int v = 0; v < vertex_count; ++v) {
-        out.push_back(static_cast<uint8_t>(row_values[v] >> (8 * plane)));
+        sink.PutU8(static_cast<uint8_t>(row_values[v] >> (8 * plane)));
       }
     }
   }
   BaselineStream stream;
-  stream.bytes = ZstdCompress(out);
+  stream.bytes = ZstdCompress(sink.bytes());
   if (stream.bytes.empty()) return InternalError("zstd failed to compress the delta stream");
   return stream;
 }
 
 StatusOr<MeshSequence> DecodeZstd(std::span<const uint8_t> bytes) {
   DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> payload, ZstdDecompress(bytes));
-  ByteSource source(payload);
+  ByteReader source(payload);
   uint64_t vertex_count, triangle_count, frame_count, width;
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxVertices, &vertex_count, "vertex count"));
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxTriangles, &triangle_count, "triangle count"));
-  DMC_RETURN_IF_ERROR(source.GetCount(kMaxFrames, &frame_count, "frame count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&vertex_count, 0, kMaxVertices, "vertex count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&triangle_count, 0, kMaxTriangles, "triangle count"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&frame_count, 0, kMaxFrames, "frame count"));
   DMC_RETURN_IF_ERROR(CheckSequenceSize(vertex_count, triangle_count, frame_count));
   Grid grid;
   DMC_RETURN_IF_ERROR(GetGrid(source, &grid));
-  DMC_RETURN_IF_ERROR(source.GetCount(4, &width, "delta width"));
+  DMC_RETURN_IF_ERROR(source.GetVarURange(&width, 0, 4, "delta width"));
   if (width != 1 && width != 2 && width != 4) {
     return CorruptStreamError("delta width " + std::to_string(width) + " is not 1, 2 or 4");
   }
@@ -574,12 +506,12 @@ StatusOr<MeshSequence> DecodeZstd(std::span<const uint8_t> bytes) {
           coded |= static_cast<uint32_t>(block[plane * vertex_count + v]) << (8 * plane);
         }
         int64_t& level = levels[3 * static_cast<size_t>(v) + axis];
-        level += UnZigZag(coded);
+        level += ZigZagDecode(coded);
         frame(v, axis) = grid.Dequantize(level, axis);
       }
     }
   }
-  DMC_RETURN_IF_ERROR(source.ExpectEnd("zstd stream"));
+  DMC_RETURN_IF_ERROR(ExpectEnd(source, "zstd stream"));
   return sequence;
 }
 

@@ -8,7 +8,7 @@
 
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
-#include "dmc/operators.h"
+#include "dmc/operator_registry.h"
 
 namespace dmc::sweep {
 namespace {
