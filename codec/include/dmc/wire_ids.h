@@ -9,8 +9,9 @@
 // 1.0 and therefore stays.
 //
 // Each enum is followed by a table listing every enumerator with its stable name: C++ cannot
-// enumerate an enum, and the table is what the spec-agreement test, ChunkTypeName() and friends
-// iterate. Adding an enumerator means adding its table row and its row in the spec.
+// enumerate an enum, and the table is what the spec-agreement test, WireNameOf() and the error
+// messages that name a value read. Adding an enumerator means adding its table row and its row in
+// the spec.
 #pragma once
 
 #include <array>
@@ -22,21 +23,20 @@
 namespace dmc {
 
 // ---------------------------------------------------------------------------------------------
-// Discrete Laplace operators (see dmc/operators.h for what each computes). Owned by the operator
-// module; the decoder rebuilds the operator a stream names from connectivity plus, depending on
-// the operator, a decoded reference frame (geometric operators) or decoded weights (DDL).
-// Format 1.0 streams may only name kKirchhoff, kTutte and kDdl; the other IDs are reserved for
-// processing tools and later format versions (a 1.0 decoder reports kUnsupported for them).
+// Discrete Laplace operators (what each computes: dmc/operators.h and the spec, §9). Which
+// of them a stream may name and what its operator chunk then carries is kOperatorTraits in
+// dmc/operator_traits.h: in format 1.0 every ID but kDdlAsym (a decoder reports kUnsupported for
+// 0, 8 and unlisted IDs).
 enum class OperatorId : uint8_t {
   kInvalid = 0,
-  kKirchhoff = 1,  // graph Laplacian: w_ij = 1                    (connectivity only)
-  kTutte = 2,      // w_ij = 1 / deg(i)                            (connectivity only)
-  kCotan = 3,      // cotangent weights, each row scaled to unit sum (reference frame)
-  kCotanArea = 4,  // cotangent weights / mixed Voronoi area       (reference frame)
-  kCotanSym = 5,   // symmetric cotangent weights (DEC operator)   (reference frame)
-  kMeanValue = 6,  // Floater's mean value weights, unit sum       (reference frame)
-  kDdl = 7,        // data-dependent Laplacian, symmetric          (one weight per edge)
-  kDdlAsym = 8,    // data-dependent Laplacian, asymmetric         (one weight per directed edge)
+  kKirchhoff = 1,  // graph Laplacian: w_ij = 1
+  kTutte = 2,      // w_ij = 1 / deg(i)
+  kCotan = 3,      // cotangent weights, each row scaled to unit sum
+  kCotanArea = 4,  // cotangent weights / mixed Voronoi area
+  kCotanSym = 5,   // symmetric cotangent weights (DEC operator)
+  kMeanValue = 6,  // Floater's mean value weights, unit sum
+  kDdl = 7,        // data-dependent Laplacian, symmetric (one weight per edge)
+  kDdlAsym = 8,    // data-dependent Laplacian, asymmetric (one weight per directed edge)
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -6,7 +6,7 @@
 #include <bit>
 #include <set>
 
-#include "dmc/wire_ids.h"
+#include "dmc/operator_traits.h"
 
 namespace dmc::format {
 
@@ -73,24 +73,13 @@ std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology) {
 }
 
 bool IsCodecOperator(uint8_t operator_id) {
-  switch (static_cast<OperatorId>(operator_id)) {
-    case OperatorId::kKirchhoff:
-    case OperatorId::kTutte:
-    case OperatorId::kDdl:
-    case OperatorId::kCotan:
-    case OperatorId::kCotanArea:
-    case OperatorId::kCotanSym:
-    case OperatorId::kMeanValue:
-      return true;
-    default:
-      return false;
-  }
+  const OperatorTraits* traits = FindOperatorTraits(static_cast<OperatorId>(operator_id));
+  return traits != nullptr && traits->codec();
 }
 
 bool IsGeometricOperator(uint8_t operator_id) {
-  const auto id = static_cast<OperatorId>(operator_id);
-  return id == OperatorId::kCotan || id == OperatorId::kCotanArea || id == OperatorId::kCotanSym ||
-         id == OperatorId::kMeanValue;
+  const OperatorTraits* traits = FindOperatorTraits(static_cast<OperatorId>(operator_id));
+  return traits != nullptr && traits->geometric();
 }
 
 int64_t ReferenceWeight(const MeshTopology& topology, int edge) {

@@ -103,9 +103,8 @@ struct AnchorContexts {
   IntegerContexts value[kBasisColumnGroups];
 };
 
-// Codec operators of format 1.0 and what their operator chunk carries: nothing (kirchhoff, tutte),
-// DDL edge weights (ddl), or a quantised reference frame (cotan, cotan-area, cotan-sym,
-// mean-value), from which the decoder computes the geometric weights.
+// Whether a segment may name `operator_id`, and whether its operator chunk then carries a
+// reference frame: the codec() and geometric() of its kOperatorTraits row (dmc/operator_traits.h).
 bool IsCodecOperator(uint8_t operator_id);
 bool IsGeometricOperator(uint8_t operator_id);
 

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 
+#include <algorithm>
 #include <atomic>
 #include <fstream>
 #include <iterator>
@@ -17,6 +18,7 @@
 #include "decoder/segment_reconstruction.h"
 #include "decoder/syntax_reader.h"
 #include "dmc/operators.h"
+#include "dmc/wire_ids.h"
 #include "entropy/byte_io.h"
 #include "io/pc2_stream.h"
 
@@ -30,28 +32,12 @@ struct RawChunk {
   size_t framed_size;
 };
 
+// The chunk type's stable name (kChunkTypeNames) with spaces for hyphens, as messages spell it.
 std::string ChunkName(uint8_t type) {
-  switch (static_cast<format::ChunkType>(type)) {
-    case format::ChunkType::kSequenceHeader:
-      return "sequence header";
-    case format::ChunkType::kConnectivity:
-      return "connectivity";
-    case format::ChunkType::kSegmentHeader:
-      return "segment header";
-    case format::ChunkType::kMean:
-      return "mean";
-    case format::ChunkType::kBasis:
-      return "basis";
-    case format::ChunkType::kOperator:
-      return "operator";
-    case format::ChunkType::kAnchors:
-      return "anchors";
-    case format::ChunkType::kResiduals:
-      return "residuals";
-    case format::ChunkType::kEnd:
-      return "end";
-  }
-  return "unknown (" + std::to_string(type) + ")";
+  std::string name(WireNameOf(kChunkTypeNames, static_cast<format::ChunkType>(type)));
+  if (name.empty()) return "unknown (" + std::to_string(type) + ")";
+  std::replace(name.begin(), name.end(), '-', ' ');
+  return name;
 }
 
 // Splits the stream into checksummed chunks: magic, version, reserved byte, then

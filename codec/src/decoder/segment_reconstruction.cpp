@@ -10,29 +10,32 @@
 #include <string>
 #include <vector>
 
-#include "bitstream/syntax.h"
 #include "decoder/synthesis_kernel.h"
+#include "dmc/operator_traits.h"
 
 namespace dmc {
 
 StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
                                                  const SegmentSyntax& syntax) {
   const auto id = static_cast<OperatorId>(syntax.header.operator_id);
-  if (id == OperatorId::kDdl) {
-    OperatorWeights weights;
-    weights.layout = WeightLayout::kPerEdge;
-    weights.values.resize(syntax.edge_weights.size());
-    const double unit = std::ldexp(1.0, -syntax.header.weight_bits);
-    for (size_t e = 0; e < syntax.edge_weights.size(); ++e) {
-      weights.values[e] = static_cast<double>(syntax.edge_weights[e]) * unit;
+  const OperatorTraits* traits = FindOperatorTraits(id);
+  switch (traits != nullptr ? traits->side_info : OperatorSideInfo::kNotCarried) {
+    case OperatorSideInfo::kEdgeWeights: {
+      OperatorWeights weights;
+      weights.layout = WeightLayout::kPerEdge;
+      weights.values.resize(syntax.edge_weights.size());
+      const double unit = std::ldexp(1.0, -syntax.header.weight_bits);
+      for (size_t e = 0; e < syntax.edge_weights.size(); ++e) {
+        weights.values[e] = static_cast<double>(syntax.edge_weights[e]) * unit;
+      }
+      return RebuildOperator(id, topology, nullptr, &weights);
     }
-    return RebuildOperator(id, topology, nullptr, &weights);
-  }
-  if (format::IsGeometricOperator(syntax.header.operator_id)) {
-    return RebuildOperator(id, topology, &syntax.reference_frame, nullptr);
-  }
-  if (id == OperatorId::kKirchhoff || id == OperatorId::kTutte) {
-    return RebuildOperator(id, topology, nullptr, nullptr);
+    case OperatorSideInfo::kReferenceFrame:
+      return RebuildOperator(id, topology, &syntax.reference_frame, nullptr);
+    case OperatorSideInfo::kNone:
+      return RebuildOperator(id, topology, nullptr, nullptr);
+    case OperatorSideInfo::kNotCarried:
+      break;
   }
   return UnsupportedError("operator wire ID " + std::to_string(syntax.header.operator_id) +
                           " is not a codec operator of this version");

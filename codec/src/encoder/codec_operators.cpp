@@ -2,33 +2,18 @@
 
 #include <string>
 
-#include "dmc/operators.h"
+#include "dmc/operator_traits.h"
 
 namespace dmc {
-namespace {
-
-struct CodecOperator {
-  std::string_view name;
-  OperatorId id;
-};
-constexpr CodecOperator kCodecOperators[] = {{"ddl", OperatorId::kDdl},
-                                             {"tutte", OperatorId::kTutte},
-                                             {"kirchhoff", OperatorId::kKirchhoff},
-                                             {"cotan", OperatorId::kCotan},
-                                             {"cotan-area", OperatorId::kCotanArea},
-                                             {"cotan-sym", OperatorId::kCotanSym},
-                                             {"mean-value", OperatorId::kMeanValue}};
-
-}  // namespace
 
 StatusOr<OperatorId> CodecOperatorId(std::string_view name) {
-  for (const auto& op : kCodecOperators) {
-    if (op.name == name) return op.id;
-  }
+  const OperatorTraits* traits = FindOperatorTraits(name);
+  if (traits != nullptr && traits->codec()) return traits->id;
   std::string names;
-  for (const auto& op : kCodecOperators)
-    names += (names.empty() ? "" : ", ") + std::string(op.name);
-  if (FindOperator(name).ok()) {
+  for (const OperatorTraits& row : kOperatorTraits) {
+    if (row.codec()) names += (names.empty() ? "" : ", ") + std::string(row.name);
+  }
+  if (traits != nullptr) {
     return UnsupportedError("operator '" + std::string(name) +
                             "' cannot be used by the codec (codec operators: " + names + ")");
   }
@@ -37,10 +22,8 @@ StatusOr<OperatorId> CodecOperatorId(std::string_view name) {
 }
 
 std::string_view CodecOperatorName(OperatorId id) {
-  for (const auto& op : kCodecOperators) {
-    if (op.id == id) return op.name;
-  }
-  return "unknown";
+  const OperatorTraits* traits = FindOperatorTraits(id);
+  return traits != nullptr && traits->codec() ? traits->name : "unknown";
 }
 
 }  // namespace dmc

@@ -1,5 +1,5 @@
-// The operators a .dmc stream can name, by their registry names: what `EncoderOptions::
-// operator_name` may be.
+// The operators a .dmc stream can name (the codec rows of kOperatorTraits, dmc/operator_traits.h),
+// by their registry names: what `EncoderOptions::operator_name` may be.
 #pragma once
 
 #include <string_view>
@@ -9,8 +9,8 @@
 
 namespace dmc {
 
-// kNotFound for a name the registry does not know, kUnsupported for a registry operator the codec
-// cannot carry; both messages list the codec's operators.
+// kNotFound for a name no operator has, kUnsupported for an operator the codec cannot carry; both
+// messages list the codec's operators.
 StatusOr<OperatorId> CodecOperatorId(std::string_view name);
 
 // The registry name of a codec operator ("unknown" for any other id).

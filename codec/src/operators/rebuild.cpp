@@ -1,6 +1,7 @@
 // Decoder-side dispatch from a wire ID to the builder of that operator.
 #include <string>
 
+#include "dmc/operator_traits.h"
 #include "dmc/operators.h"
 
 namespace dmc {
@@ -20,11 +21,7 @@ std::string KnownIds() {
 }  // namespace
 
 std::string_view OperatorIdName(OperatorId id) {
-  if (id == OperatorId::kInvalid) return {};
-  for (const auto& entry : kOperatorIdNames) {
-    if (entry.value == id) return entry.name;
-  }
-  return {};
+  return id == OperatorId::kInvalid ? std::string_view() : WireNameOf(kOperatorIdNames, id);
 }
 
 StatusOr<LaplaceOperator> RebuildOperator(OperatorId id, const MeshTopology& topology,
@@ -35,12 +32,9 @@ StatusOr<LaplaceOperator> RebuildOperator(OperatorId id, const MeshTopology& top
     return NotFoundError("unknown operator ID " + std::to_string(static_cast<int>(id)) +
                          "; known IDs: " + KnownIds());
   }
-  auto need_frame = [&]() -> Status {
-    if (reference_frame == nullptr) {
-      return InvalidArgumentError("operator " + std::string(name) + " needs a reference frame");
-    }
-    return Status::Ok();
-  };
+  if (FindOperatorTraits(id)->geometric() && reference_frame == nullptr) {
+    return InvalidArgumentError("operator " + std::string(name) + " needs a reference frame");
+  }
   auto need_weights = [&](WeightLayout layout) -> Status {
     if (weights == nullptr || weights->layout != layout) {
       return InvalidArgumentError(
@@ -55,16 +49,12 @@ StatusOr<LaplaceOperator> RebuildOperator(OperatorId id, const MeshTopology& top
     case OperatorId::kTutte:
       return BuildTutte(topology);
     case OperatorId::kCotan:
-      DMC_RETURN_IF_ERROR(need_frame());
       return BuildCotan(topology, *reference_frame);
     case OperatorId::kCotanArea:
-      DMC_RETURN_IF_ERROR(need_frame());
       return BuildCotanArea(topology, *reference_frame);
     case OperatorId::kCotanSym:
-      DMC_RETURN_IF_ERROR(need_frame());
       return BuildCotanSym(topology, *reference_frame);
     case OperatorId::kMeanValue:
-      DMC_RETURN_IF_ERROR(need_frame());
       return BuildMeanValue(topology, *reference_frame);
     case OperatorId::kDdl:
       DMC_RETURN_IF_ERROR(need_weights(WeightLayout::kPerEdge));

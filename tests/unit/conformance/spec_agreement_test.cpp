@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "bitstream/format.h"
+#include "bitstream/syntax.h"
 #include "decoder/connectivity_decoder.h"
 #include "decoder/syntax_reader.h"
+#include "dmc/operator_traits.h"
 #include "dmc/operators.h"
 #include "dmc/status.h"
 #include "dmc/wire_ids.h"
@@ -133,6 +135,47 @@ TEST_F(SpecAgreement, OperatorIdsMatchTheHeaderAndTheRegistryNames) {
     if (row.value == OperatorId::kInvalid) continue;
     EXPECT_EQ(OperatorIdName(row.value), row.name) << "registry name of ID " << int(row.value);
   }
+}
+
+std::string SpecChunkColumn(OperatorSideInfo side_info) {
+  switch (side_info) {
+    case OperatorSideInfo::kNotCarried:
+      return "—";
+    case OperatorSideInfo::kNone:
+      return "empty";
+    case OperatorSideInfo::kReferenceFrame:
+      return "reference frame";
+    case OperatorSideInfo::kEdgeWeights:
+      return "DDL weights";
+  }
+  return "?";
+}
+
+// The spec's "Codec operator in 1.0" and "Operator chunk" columns are kOperatorTraits' rows.
+TEST_F(SpecAgreement, OperatorColumnsMatchTheTraitsTable) {
+  const auto rows = SpecTable(spec(), "operator");
+  ASSERT_FALSE(rows.empty());
+  int listed = 0;
+  for (const auto& row : rows) {
+    ASSERT_GE(row.size(), 4u);
+    const auto id = static_cast<OperatorId>(std::stoi(row[0]));
+    const OperatorTraits* traits = FindOperatorTraits(id);
+    if (id == OperatorId::kInvalid) {
+      EXPECT_EQ(traits, nullptr);
+      continue;
+    }
+    ASSERT_NE(traits, nullptr) << "ID " << row[0] << " has no traits row";
+    ++listed;
+    EXPECT_EQ(traits->name, Unquote(row[1]));
+    EXPECT_EQ(row[2], traits->codec() ? "yes" : "no") << traits->name;
+    EXPECT_EQ(row[3], SpecChunkColumn(traits->side_info)) << traits->name;
+    EXPECT_EQ(format::IsCodecOperator(static_cast<uint8_t>(id)), traits->codec());
+    EXPECT_EQ(format::IsGeometricOperator(static_cast<uint8_t>(id)), row[3] == "reference frame");
+  }
+  // Every traits row with a wire ID is in the spec.
+  int with_id = 0;
+  for (const OperatorTraits& traits : kOperatorTraits) with_id += traits.id != OperatorId::kInvalid;
+  EXPECT_EQ(listed, with_id);
 }
 
 TEST_F(SpecAgreement, CodecOperatorColumnMatchesWhatTheDecoderAccepts) {
