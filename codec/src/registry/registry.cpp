@@ -1,14 +1,16 @@
-// The operator registry: one table row per operator, name ↔ wire ID ↔ factory. Adding an
-// operator is its builder (one file) plus one row in kRegistry.
+// The operator registry: one table row per operator, name → factory, with its wire ID from
+// kOperatorTraits (dmc/operator_traits.h). Adding an operator is its builder (one file), its
+// traits row, and one row in kRegistry.
 #include <fmt/format.h>
 
-#include <algorithm>
+#include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dmc/bspline.h"
+#include "dmc/operator_traits.h"
 #include "dmc/operators.h"
-#include "dmc/pca.h"
 #include "dmc/spacetime.h"
 
 namespace dmc {
@@ -130,35 +132,59 @@ StatusOr<LaplaceOperator> MakeBspline(const MeshTopology& topology, const Operat
   return result;
 }
 
-// name, wire ID, description, needs_geometry, needs_trajectories, symmetric, unit_sum, factory,
-// domain (kVertex unless given). Only kVertex rows can carry a wire ID.
-const OperatorInfo kRegistry[] = {
-    {"kirchhoff", OperatorId::kKirchhoff, "graph Laplacian, w_ij = 1, diagonal −degree", false,
-     false, true, false, MakeKirchhoff},
-    {"tutte", OperatorId::kTutte, "uniform weights 1/deg(i), unit row sum", false, false, false,
-     true, MakeTutte},
-    {"cotan", OperatorId::kCotan, "cotangent weights scaled to unit row sum", true, false, false,
-     true, MakeCotan},
-    {"cotan-area", OperatorId::kCotanArea,
-     "cotangent weights / mixed Voronoi area (mean-curvature normal)", true, false, false, false,
-     MakeCotanArea},
-    {"cotan-sym", OperatorId::kCotanSym, "symmetric cotangent weights (DEC), with mass matrix",
-     true, false, true, false, MakeCotanSym},
-    {"mean-value", OperatorId::kMeanValue, "Floater's mean value weights, unit row sum", true,
-     false, false, true, MakeMeanValue},
-    {"ddl", OperatorId::kDdl, "data-dependent Laplacian: symmetric weights fitted to trajectories",
-     false, true, true, true, FitDdlSymmetric},
-    {"ddl-asym", OperatorId::kDdlAsym,
-     "data-dependent Laplacian: one fitted weight per directed edge", false, true, false, true,
-     FitDdlAsymmetric},
-    {"spacetime", std::nullopt,
-     "3D+t DEC Laplacian of all frames (VF x VF stiffness W, mass = dual volumes; needs alpha)",
-     false, true, true, false, MakeSpacetime, OperatorDomain::kSpacetime},
-    {"bspline", std::nullopt,
-     "restricted B-spline Laplace-Beltrami on octree elements (N x N, mass matrix, V x N "
-     "evaluation; depth)",
-     true, false, true, false, MakeBspline, OperatorDomain::kElement},
+// A row of kRegistry, its wire ID from the name's kOperatorTraits row (RegistryMatchesTraits below
+// checks that every name has one). Only kVertex rows can carry a wire ID.
+consteval OperatorInfo Row(std::string_view name, std::string_view description, bool needs_geometry,
+                           bool needs_trajectories, bool symmetric, bool unit_sum,
+                           OperatorFactory factory,
+                           OperatorDomain domain = OperatorDomain::kVertex) {
+  const OperatorTraits* traits = FindOperatorTraits(name);
+  std::optional<OperatorId> wire_id;
+  if (traits != nullptr && traits->id != OperatorId::kInvalid) wire_id = traits->id;
+  return {name,      wire_id,  description, needs_geometry, needs_trajectories,
+          symmetric, unit_sum, factory,     domain};
+}
+
+// name, description, needs_geometry, needs_trajectories, symmetric, unit_sum, factory, domain.
+constexpr OperatorInfo kRegistry[] = {
+    Row("kirchhoff", "graph Laplacian, w_ij = 1, diagonal −degree", false, false, true, false,
+        MakeKirchhoff),
+    Row("tutte", "uniform weights 1/deg(i), unit row sum", false, false, false, true, MakeTutte),
+    Row("cotan", "cotangent weights scaled to unit row sum", true, false, false, true, MakeCotan),
+    Row("cotan-area", "cotangent weights / mixed Voronoi area (mean-curvature normal)", true, false,
+        false, false, MakeCotanArea),
+    Row("cotan-sym", "symmetric cotangent weights (DEC), with mass matrix", true, false, true,
+        false, MakeCotanSym),
+    Row("mean-value", "Floater's mean value weights, unit row sum", true, false, false, true,
+        MakeMeanValue),
+    Row("ddl", "data-dependent Laplacian: symmetric weights fitted to trajectories", false, true,
+        true, true, FitDdlSymmetric),
+    Row("ddl-asym", "data-dependent Laplacian: one fitted weight per directed edge", false, true,
+        false, true, FitDdlAsymmetric),
+    Row("spacetime",
+        "3D+t DEC Laplacian of all frames (VF x VF stiffness W, mass = dual volumes; needs alpha)",
+        false, true, true, false, MakeSpacetime, OperatorDomain::kSpacetime),
+    Row("bspline",
+        "restricted B-spline Laplace-Beltrami on octree elements (N x N, mass matrix, V x N "
+        "evaluation; depth)",
+        true, false, true, false, MakeBspline, OperatorDomain::kElement),
 };
+
+// The registry holds exactly the kOperatorTraits rows, and builds a geometric one from a frame.
+consteval bool RegistryMatchesTraits() {
+  if (std::size(kRegistry) != std::size(kOperatorTraits)) return false;
+  for (const OperatorTraits& traits : kOperatorTraits) {
+    int rows = 0;
+    for (const OperatorInfo& info : kRegistry) {
+      if (info.name != traits.name) continue;
+      ++rows;
+      if (traits.geometric() && !info.needs_geometry) return false;
+    }
+    if (rows != 1) return false;
+  }
+  return true;
+}
+static_assert(RegistryMatchesTraits(), "kRegistry must hold every kOperatorTraits row once");
 
 std::string KnownNames() {
   std::string list;
@@ -226,29 +252,6 @@ StatusOr<LaplaceOperator> BuildOperator(std::string_view name, const MeshTopolog
   DMC_ASSIGN_OR_RETURN(LaplaceOperator result, info->factory(topology, source, options));
   result.name = std::string(info->name);
   return result;
-}
-
-OperatorSource SourceFromFrame(const FramePositionsD& positions) {
-  OperatorSource source;
-  source.reference_frame = positions;
-  source.trajectories = Eigen::MatrixXd(positions);
-  return source;
-}
-
-OperatorSource SourceFromSequence(const MeshSequence& sequence, int reference_frame_index) {
-  OperatorSource source;
-  source.reference_frame =
-      reference_frame_index >= 0 && reference_frame_index < sequence.frame_count()
-          ? sequence.frame_d(reference_frame_index)
-          : MeanFrame(sequence);
-  source.trajectories = TrajectoryMatrix(sequence);
-  return source;
-}
-
-OperatorSource SourceFromTrajectories(Eigen::MatrixXd trajectories) {
-  OperatorSource source;
-  source.trajectories = std::move(trajectories);
-  return source;
 }
 
 }  // namespace dmc
