@@ -4,15 +4,18 @@
 // whole trajectory (x₀ y₀ z₀ x₁ y₁ z₁ …), i.e. X(v, 3f + axis). PCA writes
 //   X ≈ 1·meanᵀ + C·Bᵀ,
 // with mean the 1×3F average trajectory, B (3F×r) orthonormal principal directions in decreasing
-// order of variance, and C = (X − 1·meanᵀ)·B the V×r coefficients: the "reduced trajectories" the
-// DDL is fitted to and the codec quantises. Because B is orthonormal, ‖L·C‖ equals ‖L·X‖ restricted
-// to the retained subspace for any unit-sum operator L (L·1 = 0 removes the mean).
+// order of variance, and C = (X − 1·meanᵀ)·B the V×r coefficients: the "reduced trajectories" a
+// DDL can be fitted to (dmc laplacian --rank, the Python bindings). Because B is orthonormal,
+// ‖L·C‖ equals ‖L·X‖ restricted to the retained subspace for any unit-sum operator L (L·1 = 0
+// removes the mean).
 //
 // Computed from the eigen-decomposition of the smaller Gram matrix: the 3F×3F XcᵀXc when 3F ≤ V
-// (the usual case, cost V·(3F)² + (3F)³), otherwise the V×V XcXcᵀ. Signs are fixed
-// deterministically (each basis column's entry of largest magnitude is positive). On the V×V path
-// a direction of numerically zero variance (eigenvalue ≤ 1e-12 × the largest) has no defined
-// basis vector and is returned as a zero column with zero coefficients.
+// (the usual case, cost V·(3F)² + (3F)³), otherwise the V×V XcXcᵀ. The 3F×3F path, the mean and
+// the projection are the encoder's own segment PCA routines (fitting/segment_pca.h; the encoder
+// calls those directly, per segment, and chooses the rank itself), deterministic for any thread
+// count. Signs are fixed deterministically (each basis column's entry of largest magnitude is
+// positive). On the V×V path a direction of numerically zero variance (eigenvalue ≤ 1e-12 × the
+// largest) has no defined basis vector and is returned as a zero column with zero coefficients.
 #pragma once
 
 #include <Eigen/Core>

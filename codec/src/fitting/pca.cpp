@@ -4,6 +4,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <utility>
+
+#include "fitting/segment_pca.h"
 
 namespace dmc {
 
@@ -29,20 +32,18 @@ StatusOr<TrajectoryPca> ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories
   const Eigen::Index kept = std::min<Eigen::Index>({rank, v_count, dims});
 
   TrajectoryPca pca;
-  pca.mean = trajectories.colwise().mean();
-  const Eigen::MatrixXd centred = trajectories.rowwise() - pca.mean;
-
+  Eigen::VectorXd mean;
   if (dims <= v_count) {
-    // 3F×3F Gram matrix; only its lower triangle is formed (a symmetric rank-V update).
-    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(dims, dims);
-    gram.selfadjointView<Eigen::Lower>().rankUpdate(centred.transpose());
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);  // reads the lower triangle
-    // Eigen sorts ascending; the principal directions are the last columns.
-    pca.eigenvalues = eigen.eigenvalues().reverse().cwiseMax(0.0);
-    pca.basis = eigen.eigenvectors().rightCols(kept).rowwise().reverse();
+    // The encoder's segment PCA: the 3F×3F Gram matrix of the centred trajectories.
+    SegmentPca segment = ComputeSegmentPca(trajectories);
+    mean = std::move(segment.mean);
+    pca.eigenvalues = std::move(segment.eigenvalues);
+    pca.basis = segment.eigenvectors.leftCols(kept);
   } else {
     // More coordinates than vertices: the V×V Gram XcXcᵀ shares the nonzero spectrum, and
     // B = Xcᵀ·U·Σ⁻¹ recovers the principal directions.
+    mean = MeanTrajectory(trajectories);
+    const Eigen::MatrixXd centred = trajectories.rowwise() - mean.transpose();
     Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(v_count, v_count);
     gram.selfadjointView<Eigen::Lower>().rankUpdate(centred);
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
@@ -66,7 +67,8 @@ StatusOr<TrajectoryPca> ComputeTrajectoryPca(const Eigen::MatrixXd& trajectories
     pca.basis.col(c).cwiseAbs().maxCoeff(&largest);
     if (pca.basis(largest, c) < 0.0) pca.basis.col(c) *= -1.0;
   }
-  pca.coefficients = centred * pca.basis;
+  pca.coefficients = ProjectTrajectories(trajectories, mean, pca.basis);
+  pca.mean = mean.transpose();
   return pca;
 }
 

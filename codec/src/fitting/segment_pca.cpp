@@ -24,55 +24,42 @@ constexpr Eigen::Index kCentredRows = 256;
 
 // Calls use(offset, centred) for consecutive runs of at most kCentredRows rows of
 // trajectories[start, start + count), centred (rows minus `mean`) in double, in row order.
-template <typename Use>
-void ForEachCentredRun(const SegmentTrajectories& trajectories, const Eigen::VectorXd& mean,
-                       Eigen::Index start, Eigen::Index count, Use use) {
+template <typename Matrix, typename Use>
+void ForEachCentredRun(const Matrix& trajectories, const Eigen::VectorXd& mean, Eigen::Index start,
+                       Eigen::Index count, Use use) {
   Eigen::MatrixXd centred;
   for (Eigen::Index offset = 0; offset < count; offset += kCentredRows) {
     const Eigen::Index n = std::min(kCentredRows, count - offset);
-    centred =
-        trajectories.middleRows(start + offset, n).cast<double>().rowwise() - mean.transpose();
+    centred = trajectories.middleRows(start + offset, n).template cast<double>().rowwise() -
+              mean.transpose();
     use(start + offset, centred);
   }
 }
 
-}  // namespace
-
-void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
-                SegmentTrajectories& trajectories) {
-  const Eigen::Index v_count = trajectories.rows();
-  const Eigen::Map<const FramePositions> frame(positions, v_count, 3);
-  if (relabel.empty()) {
-    trajectories.middleCols(3 * frame_in_segment, 3) = frame;
-  } else {
-    for (Eigen::Index v = 0; v < v_count; ++v) {
-      trajectories.block(v, 3 * frame_in_segment, 1, 3) = frame.row(relabel[v]);
-    }
-  }
-}
-
-SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_frame,
-                                       int frame_count, const std::vector<int32_t>& relabel) {
-  SegmentTrajectories x(sequence.vertex_count(), 3 * frame_count);
-  for (int f = 0; f < frame_count; ++f) {
-    StoreFrame(sequence.frame(first_frame + f).data(), f, relabel, x);
-  }
-  return x;
-}
-
-SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
-  SegmentPca pca;
+// Shared by the float (encoder) and double (ComputeTrajectoryPca) trajectories: with float input
+// every row is cast to double before any arithmetic, so both run the same double sums.
+template <typename Matrix>
+Eigen::VectorXd MeanOf(const Matrix& trajectories) {
   const Eigen::Index rows = trajectories.rows(), cols = trajectories.cols();
   const Eigen::Index blocks = RowBlocks(rows);
   std::vector<Eigen::VectorXd> partial_sums(blocks);
   tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
     const Eigen::Index start = b * kRowBlock, count = std::min(kRowBlock, rows - start);
     partial_sums[b] =
-        trajectories.middleRows(start, count).cast<double>().colwise().sum().transpose();
+        trajectories.middleRows(start, count).template cast<double>().colwise().sum().transpose();
   });
-  pca.mean = Eigen::VectorXd::Zero(cols);
-  for (const auto& p : partial_sums) pca.mean += p;
-  if (rows > 0) pca.mean /= static_cast<double>(rows);
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(cols);
+  for (const auto& p : partial_sums) mean += p;
+  if (rows > 0) mean /= static_cast<double>(rows);
+  return mean;
+}
+
+template <typename Matrix>
+SegmentPca PcaOf(const Matrix& trajectories) {
+  SegmentPca pca;
+  const Eigen::Index rows = trajectories.rows(), cols = trajectories.cols();
+  const Eigen::Index blocks = RowBlocks(rows);
+  pca.mean = MeanOf(trajectories);
 
   // The blocks' partial Gram matrices are computed a batch at a time (as many as run at once)
   // and added in block order as each batch ends: the same sums in the same order as holding all
@@ -102,8 +89,9 @@ SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
   return pca;
 }
 
-Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
-                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis) {
+template <typename Matrix>
+Eigen::MatrixXd ProjectionOf(const Matrix& trajectories, const Eigen::VectorXd& mean,
+                             const Eigen::MatrixXd& basis) {
   const Eigen::Index rows = trajectories.rows();
   Eigen::MatrixXd projected(rows, basis.cols());
   tbb::parallel_for(Eigen::Index{0}, RowBlocks(rows), [&](Eigen::Index b) {
@@ -114,6 +102,46 @@ Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
                       });
   });
   return projected;
+}
+
+}  // namespace
+
+void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
+                SegmentTrajectories& trajectories) {
+  const Eigen::Index v_count = trajectories.rows();
+  const Eigen::Map<const FramePositions> frame(positions, v_count, 3);
+  if (relabel.empty()) {
+    trajectories.middleCols(3 * frame_in_segment, 3) = frame;
+  } else {
+    for (Eigen::Index v = 0; v < v_count; ++v) {
+      trajectories.block(v, 3 * frame_in_segment, 1, 3) = frame.row(relabel[v]);
+    }
+  }
+}
+
+SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_frame,
+                                       int frame_count, const std::vector<int32_t>& relabel) {
+  SegmentTrajectories x(sequence.vertex_count(), 3 * frame_count);
+  for (int f = 0; f < frame_count; ++f) {
+    StoreFrame(sequence.frame(first_frame + f).data(), f, relabel, x);
+  }
+  return x;
+}
+
+SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories) {
+  return PcaOf(trajectories);
+}
+SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories) { return PcaOf(trajectories); }
+
+Eigen::VectorXd MeanTrajectory(const Eigen::MatrixXd& trajectories) { return MeanOf(trajectories); }
+
+Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
+                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis) {
+  return ProjectionOf(trajectories, mean, basis);
+}
+Eigen::MatrixXd ProjectTrajectories(const Eigen::MatrixXd& trajectories,
+                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis) {
+  return ProjectionOf(trajectories, mean, basis);
 }
 
 Eigen::MatrixXd MeanShape(const SegmentTrajectories& trajectories) {

@@ -1,7 +1,9 @@
 // Trajectory PCA of one segment (CODDYAC): each vertex's trajectory over the segment's F frames
 // is a 3F vector (x0, y0, z0, x1, ...); the mean trajectory over vertices is subtracted and the
 // principal trajectories are the eigenvectors of the 3F×3F Gram matrix XcᵀXc — cheap because
-// 3F ≪ V, and exact (no iterative truncation).
+// 3F ≪ V, and exact (no iterative truncation). The encoder's PCA, and the routines the public
+// ComputeTrajectoryPca (dmc/pca.h) is built on: the double overloads run the same double sums as
+// the float ones on the same values.
 #pragma once
 
 #include <Eigen/Core>
@@ -34,9 +36,15 @@ struct SegmentPca {
 
 // Deterministic for any thread count (sums run over fixed row blocks, added in block order).
 SegmentPca ComputeSegmentPca(const SegmentTrajectories& trajectories);
+SegmentPca ComputeSegmentPca(const Eigen::MatrixXd& trajectories);
+
+// The 3F mean over vertices, as ComputeSegmentPca computes it.
+Eigen::VectorXd MeanTrajectory(const Eigen::MatrixXd& trajectories);
 
 // (X − 1·meanᵀ)·basis, V × r, in double over fixed row blocks.
 Eigen::MatrixXd ProjectTrajectories(const SegmentTrajectories& trajectories,
+                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis);
+Eigen::MatrixXd ProjectTrajectories(const Eigen::MatrixXd& trajectories,
                                     const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis);
 
 // The mean shape over the segment's frames, V × 3.

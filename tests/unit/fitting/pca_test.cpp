@@ -1,9 +1,11 @@
 // Trajectory PCA: exact reconstruction at full rank, orthonormality, energy bookkeeping, both Gram
-// paths, sign convention, errors.
+// paths, zero columns, sign convention, errors, and that the public PCA is the encoder's segment
+// PCA (fitting/segment_pca.h) on the 3F×3F path.
 #include "dmc/pca.h"
 
 #include <gtest/gtest.h>
 
+#include "fitting/segment_pca.h"
 #include "test_support.h"
 #include "unit/operators/operator_test_meshes.h"
 
@@ -54,6 +56,42 @@ TEST(TrajectoryPca, VertexGramPathAgreesWhenThereAreMoreCoordinatesThanVertices)
   EXPECT_LE((ReconstructTrajectories(*pca) - TrajectoryMatrix(seq)).cwiseAbs().maxCoeff(), 1e-10);
   const Eigen::MatrixXd gram = pca->basis.leftCols(3).transpose() * pca->basis.leftCols(3);
   EXPECT_LE((gram - Eigen::MatrixXd::Identity(3, 3)).cwiseAbs().maxCoeff(), 1e-12);
+  // The fourth direction has no variance: a zero column with zero coefficients, not noise.
+  EXPECT_LE(pca->eigenvalues[3], 1e-12 * pca->eigenvalues[0]);
+  EXPECT_TRUE(pca->basis.col(3).isZero(0.0));
+  EXPECT_TRUE(pca->coefficients.col(3).isZero(0.0));
+}
+
+TEST(TrajectoryPca, IsTheEncodersSegmentPcaOnTheCoordinateGramPath) {
+  const MeshSequence seq = testing::Animate(testing::Icosphere(2), 8);  // V = 162 ≥ 3F = 24
+  const auto pca = ComputeTrajectoryPca(seq, 6);
+  ASSERT_TRUE(pca.ok()) << pca.status().ToString();
+  const SegmentTrajectories trajectories = GatherTrajectories(seq, 0, seq.frame_count());
+  const SegmentPca segment = ComputeSegmentPca(trajectories);
+  EXPECT_EQ(pca->mean, segment.mean.transpose());
+  EXPECT_EQ(pca->eigenvalues, segment.eigenvalues);
+  for (int c = 0; c < 6; ++c) {  // the same eigenvectors, up to the sign fixed here
+    const Eigen::VectorXd column = segment.eigenvectors.col(c);
+    EXPECT_TRUE(pca->basis.col(c) == column || pca->basis.col(c) == -column) << "column " << c;
+  }
+  EXPECT_EQ(pca->coefficients, ProjectTrajectories(trajectories, segment.mean, pca->basis));
+}
+
+// The double overloads the public PCA uses run the float ones' sums on the same values.
+TEST(SegmentPca, DoubleTrajectoriesGiveTheFloatResultsBitForBit) {
+  const MeshSequence seq = testing::Animate(testing::JitteredPlanarGrid(70, 0.2), 5);  // 2 blocks
+  const SegmentTrajectories floats = GatherTrajectories(seq, 0, seq.frame_count());
+  const Eigen::MatrixXd doubles = floats.cast<double>();
+  ASSERT_GT(floats.rows(), 4096);
+  const SegmentPca a = ComputeSegmentPca(floats);
+  const SegmentPca b = ComputeSegmentPca(doubles);
+  EXPECT_EQ(a.mean, b.mean);
+  EXPECT_EQ(MeanTrajectory(doubles), a.mean);
+  EXPECT_EQ(a.eigenvalues, b.eigenvalues);
+  EXPECT_EQ(a.eigenvectors, b.eigenvectors);
+  const Eigen::MatrixXd basis = a.eigenvectors.leftCols(4);
+  EXPECT_EQ(ProjectTrajectories(floats, a.mean, basis),
+            ProjectTrajectories(doubles, a.mean, basis));
 }
 
 TEST(TrajectoryPca, SignsAreFixedDeterministically) {
