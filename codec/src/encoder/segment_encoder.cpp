@@ -1,0 +1,322 @@
+#include "encoder/segment_encoder.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+
+#include "decoder/segment_reconstruction.h"
+#include "dmc/operators.h"
+#include "encoder/anchors.h"
+#include "encoder/operator_choice.h"
+#include "encoder/syntax_writer.h"
+
+namespace dmc {
+namespace {
+
+constexpr int kMeanStepBits = 18;  // mean trajectory step = diagonal · 2^-18
+
+// The automatic rank's candidates, as multiples of EncoderOptions::rank_threshold. Fewer
+// components are often the better trade: on crane (16 frames) at 10 residual bits, rank 3
+// instead of 4 gave 3 % fewer bits and a lower STED, since the fourth component's quantisation
+// error outweighed what it captured. With rank search the segment is coded at the rank of each
+// threshold (distinct ranks only) and the cheapest coding is kept (RD.md, "Rank search").
+constexpr double kRankThresholdScales[] = {1.0, 2.0, 4.0};
+// Ranks are compared by bits · STED^kRankStedElasticity, lowest wins. The encode ladders of samba,
+// crane and horse-gallop follow bits ∝ STED^-0.8 closely (the local slope of bpfv against ln STED
+// is about 0.8 × bpfv, from 0.2 to 1.8 bpfv), so the product is constant along a ladder and a
+// rank that lowers it lies below the ladder. The operator choice's fixed slope under-weights STED
+// at high rates: choosing ranks with it cost horse-gallop 2.9 % at STED 0.03.
+constexpr double kRankStedElasticity = 0.8;
+
+}  // namespace
+
+// One segment's state between its PCA and its chunks.
+struct SegmentEncoder::Segment {
+  int vertex_count = 0;
+  format::SegmentHeader header;  // everything but the rank (and the operator the choice makes)
+  std::vector<int> ranks;        // the ranks to code, highest (the plain threshold's) first
+  std::vector<int32_t> anchors;
+  Eigen::MatrixXd mean_shape;  // V × 3: anchors, reference frames; released after the last use
+  SegmentSyntax syntax;        // decoded mean, basis and anchors of the rank being coded
+  std::vector<uint8_t> mean_payload;
+  std::vector<uint8_t> top_basis_payload;
+  Eigen::MatrixXd top_basis;     // the top rank's decoded basis
+  Eigen::MatrixXd eigenvectors;  // the top rank's principal directions, for the lower ranks' bases
+  Eigen::MatrixXd projected;     // V × rank, kept while a rank is still to be coded
+  std::optional<MeasuredFrames> measured;  // the fallback's measurement frames
+  bool fallback = false;
+};
+
+// The segment coded at one rank: everything that depends on the rank, and bits ·
+// STED^kRankStedElasticity when the fallback measured it.
+struct SegmentEncoder::RankCoding {
+  format::SegmentHeader header;
+  std::vector<uint8_t> basis_payload, anchor_payload, operator_payload, residual_payload;
+  double cost = std::numeric_limits<double>::quiet_NaN();
+};
+
+SegmentEncoder::SegmentEncoder(const MeshTopology& topology, const Triangles& triangles,
+                               const std::vector<int32_t>& vertex_order,
+                               const EncoderOptions& options, OperatorId operator_id,
+                               double diagonal, double residual_step)
+    : topology_(topology),
+      triangles_(triangles),
+      vertex_order_(vertex_order),
+      options_(options),
+      operator_id_(operator_id),
+      diagonal_(diagonal),
+      residual_step_(residual_step),
+      weight_prediction_(options.weight_prediction_uniform
+                             ? format::WeightPrediction::kUniform
+                             : format::WeightPrediction::kReferenceProportional),
+      rank_search_(options.rank == 0 && operator_id == OperatorId::kDdl && options.ddl_fallback &&
+                   options.rank_search) {}
+
+format::SegmentHeader SegmentEncoder::BaseHeader(int first_frame, int frame_count) const {
+  format::SegmentHeader h;
+  h.first_frame = static_cast<uint32_t>(first_frame);
+  h.frame_count = static_cast<uint32_t>(frame_count);
+  h.operator_id = static_cast<uint8_t>(operator_id_);
+  h.basis_bits = static_cast<uint8_t>(options_.basis_bits);
+  h.weight_bits = static_cast<uint8_t>(options_.weight_bits);
+  h.weight_prediction = static_cast<uint8_t>(weight_prediction_);
+  h.mean_step = std::ldexp(diagonal_, -kMeanStepBits);
+  h.residual_step = residual_step_;
+  h.anchor_step = residual_step_ * options_.anchor_step_ratio;
+  h.anchor_weight = 1.0;
+  return h;
+}
+
+// An automatic rank keeps component k while λ_k > threshold · V · Δ²; with rank search, also the
+// distinct non-zero lower ranks of the larger thresholds.
+std::vector<int> SegmentEncoder::CandidateRanks(const Eigen::VectorXd& eigenvalues, int max_rank,
+                                                int vertex_count) const {
+  if (options_.rank != 0) return {std::min(options_.rank, max_rank)};
+  std::vector<int> ranks;
+  for (const double scale : kRankThresholdScales) {
+    const double threshold =
+        scale * options_.rank_threshold * vertex_count * residual_step_ * residual_step_;
+    int rank = 0;
+    while (rank < max_rank && eigenvalues[rank] > threshold) ++rank;
+    if (ranks.empty() || (rank < ranks.back() && rank > 0)) ranks.push_back(rank);
+    if (!rank_search_) break;
+  }
+  return ranks;
+}
+
+// PCA, ranks, anchors, the coded mean and top-rank basis (the coefficients are computed against
+// their decoded values) and the projection. A basis column is quantised on its own, so a lower
+// rank's decoded basis is the first columns of the top rank's, and one projection serves every
+// rank.
+SegmentEncoder::Segment SegmentEncoder::Prepare(SegmentTrajectories trajectories,
+                                                int first_frame) const {
+  Segment segment;
+  segment.vertex_count = static_cast<int>(trajectories.rows());
+  const int frame_count = static_cast<int>(trajectories.cols() / 3);
+  SegmentPca pca = ComputeSegmentPca(trajectories);
+  const int max_rank = std::min<int>(3 * frame_count, std::max(segment.vertex_count - 1, 0));
+  segment.ranks = CandidateRanks(pca.eigenvalues, max_rank, segment.vertex_count);
+  const int top_rank = segment.ranks.front();
+  segment.header = BaseHeader(first_frame, frame_count);
+
+  segment.mean_shape = MeanShape(trajectories);
+  if (top_rank > 0) {
+    segment.anchors = ChooseAnchors(segment.mean_shape, topology_,
+                                    RequestedAnchorCount(options_, segment.vertex_count));
+  }
+  if (segment.anchors.empty()) segment.anchors.push_back(0);
+  segment.header.anchor_count = static_cast<uint32_t>(segment.anchors.size());
+
+  SegmentSyntax& syntax = segment.syntax;
+  syntax.header = segment.header;
+  syntax.header.rank = static_cast<uint32_t>(top_rank);
+  segment.mean_payload = syntax::WriteMean(pca.mean, segment.header, &syntax.mean);
+  segment.top_basis_payload =
+      syntax::WriteBasis(pca.eigenvectors.leftCols(top_rank), syntax.header, &syntax.basis);
+  if (segment.ranks.size() > 1) segment.eigenvectors = pca.eigenvectors.leftCols(top_rank);
+  pca = SegmentPca();  // its 3F × 3F eigenvectors
+  if (top_rank > 0) {
+    segment.projected = ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
+  }
+  segment.fallback = top_rank > 0 && operator_id_ == OperatorId::kDdl && options_.ddl_fallback;
+  if (segment.fallback) segment.measured = SampleMeasuredFrames(trajectories, triangles_);
+  trajectories = SegmentTrajectories();
+  segment.top_basis = syntax.basis;
+  return segment;
+}
+
+StatusOr<SegmentResult> SegmentEncoder::Encode(SegmentTrajectories trajectories, int first_frame,
+                                               ByteWriter& out) const {
+  Segment segment = Prepare(std::move(trajectories), first_frame);
+  // One rank at a time, keeping only the cheapest coding: the top rank's when the costs are not
+  // measured, the higher rank on ties.
+  const std::vector<int>& ranks = segment.ranks;
+  auto next_rank = [&](size_t c) { return c + 1 < ranks.size() ? ranks[c + 1] : 0; };
+  DMC_ASSIGN_OR_RETURN(RankCoding best, CodeAtRank(segment, ranks[0], next_rank(0)));
+  for (size_t c = 1; c < ranks.size(); ++c) {
+    // A lower rank that cannot be coded is not chosen: the top rank's coding is complete.
+    StatusOr<RankCoding> candidate = CodeAtRank(segment, ranks[c], next_rank(c));
+    if (candidate.ok() && candidate->cost < best.cost) best = std::move(candidate).value();
+  }
+  return AppendChunks(segment, best, out);
+}
+
+// The coefficients at `rank` against the decoded basis. Solved as r × V, then transposed once
+// the projection is released (after the last rank; before it, cut to the next rank's columns):
+// with one rank, two V × r buffers at a time, not three.
+Eigen::MatrixXd SegmentEncoder::SolveCoefficients(Segment& segment, int rank, int next_rank) const {
+  if (rank == 0) return Eigen::MatrixXd(segment.vertex_count, 0);
+  const Eigen::MatrixXd gram = segment.syntax.basis.transpose() * segment.syntax.basis;
+  Eigen::MatrixXd solved = gram.ldlt().solve(segment.projected.leftCols(rank).transpose());
+  if (next_rank == 0) {
+    segment.projected = Eigen::MatrixXd();
+  } else {
+    segment.projected.conservativeResize(Eigen::NoChange, next_rank);
+  }
+  return solved.transpose();
+}
+
+StatusOr<SegmentEncoder::RankCoding> SegmentEncoder::CodeAtRank(Segment& segment, int rank,
+                                                                int next_rank) const {
+  RankCoding coding;
+  SegmentSyntax& syntax = segment.syntax;
+  syntax.header = segment.header;
+  syntax.header.rank = static_cast<uint32_t>(rank);
+  if (rank == segment.ranks.front()) {
+    coding.basis_payload = segment.top_basis_payload;
+    syntax.basis = segment.top_basis;
+  } else {
+    coding.basis_payload =
+        syntax::WriteBasis(segment.eigenvectors.leftCols(rank), syntax.header, &syntax.basis);
+  }
+  Eigen::MatrixXd coefficients = SolveCoefficients(segment, rank, next_rank);
+  // Anchors before the operator: the DDL trials reconstruct with them.
+  coding.anchor_payload =
+      syntax::WriteAnchors(segment.anchors, coefficients, syntax.header, &syntax.anchor_values);
+  syntax.anchors = segment.anchors;
+  if (rank > 0 && operator_id_ == OperatorId::kDdl) {
+    DMC_RETURN_IF_ERROR(CodeDdl(segment, coefficients, next_rank, coding));
+  } else {
+    DMC_RETURN_IF_ERROR(CodeFixedOperator(segment, rank, coefficients, coding));
+  }
+  return coding;
+}
+
+namespace {
+
+// Codes δ = L·C for the operator `target` names, quantised with its header's step. The
+// dequantised deltas are not kept: nothing after the coding uses them but the fallback's
+// measurement, which decodes them from the payload.
+WriteResidualsFn ResidualWriter(const MeshTopology& topology,
+                                const std::vector<int32_t>& vertex_order,
+                                const Eigen::MatrixXd& coefficients) {
+  return [&](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
+    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
+    const Eigen::MatrixXd delta = laplace.matrix * coefficients;
+    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr);
+  };
+}
+
+}  // namespace
+
+// The fitted DDL weights (fitted or predicted, ChooseDdlWeights) and, with the fallback, the
+// cheapest of them and the other candidate operators (ChooseSegmentOperator).
+Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, int next_rank,
+                               RankCoding& coding) const {
+  const WriteResidualsFn write_residuals = ResidualWriter(topology_, vertex_order_, coefficients);
+  const SegmentSyntax& syntax = segment.syntax;
+  SegmentCoding ddl;
+  {
+    OperatorOptions operator_options;
+    operator_options.ddl.mu = options_.ddl_regularization;
+    // The coefficients are lent to the fit's source, not copied (the fit's factorisation is the
+    // encoder's peak), and taken back after it.
+    OperatorSource source = SourceFromTrajectories(std::move(coefficients));
+    StatusOr<LaplaceOperator> fit = FitDdlSymmetric(topology_, source, operator_options);
+    coefficients = std::move(*source.trajectories);
+    DMC_ASSIGN_OR_RETURN(const LaplaceOperator fitted, std::move(fit));
+    DMC_ASSIGN_OR_RETURN(ddl, ChooseDdlWeights(fitted.weights.values, topology_, options_,
+                                               weight_prediction_, syntax.header, write_residuals));
+  }
+  if (segment.fallback) {
+    std::vector<SegmentCoding> codings;
+    codings.push_back(std::move(ddl));
+    for (SegmentCoding& candidate :
+         CodeFallbackCandidates(syntax.header, topology_, segment.mean_shape,
+                                std::ldexp(diagonal_, -options_.reference_bits), write_residuals)) {
+      codings.push_back(std::move(candidate));
+    }
+    coefficients = Eigen::MatrixXd();
+    if (next_rank == 0) segment.mean_shape = Eigen::MatrixXd();
+    // The measurement takes the syntax (mean, basis, anchors) and gives nothing back.
+    SegmentSyntax shared;
+    shared.header = syntax.header;
+    shared.mean = syntax.mean;
+    shared.basis = syntax.basis;
+    shared.anchors = syntax.anchors;
+    shared.anchor_values = syntax.anchor_values;
+    ddl = ChooseSegmentOperator(*segment.measured, topology_, vertex_order_, std::move(shared),
+                                std::move(codings));
+  }
+  coding.header = ddl.header;
+  coding.operator_payload = std::move(ddl.operator_payload);
+  coding.residual_payload = std::move(ddl.residual_payload);
+  const size_t bytes = segment.mean_payload.size() + coding.basis_payload.size() +
+                       coding.anchor_payload.size() + coding.operator_payload.size() +
+                       coding.residual_payload.size();
+  coding.cost = std::log(8.0 * static_cast<double>(bytes)) +
+                kRankStedElasticity * std::log(std::max(ddl.sted, 1e-300));
+  return Status::Ok();
+}
+
+// An operator without a fit: a geometric one from the coded mean shape, a combinatorial one from
+// the connectivity alone, or at rank 0 the ddl's predicted weights (nothing to reconstruct).
+Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
+                                         const Eigen::MatrixXd& coefficients,
+                                         RankCoding& coding) const {
+  SegmentSyntax& syntax = segment.syntax;
+  if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id_))) {
+    // The reference frame is the segment's mean shape, coded so both sides build the same
+    // geometric operator from it.
+    coding.operator_payload = syntax::WriteReferenceFrame(
+        segment.mean_shape, topology_, std::ldexp(diagonal_, -options_.reference_bits),
+        &syntax.reference_frame);
+  } else if (operator_id_ == OperatorId::kDdl) {
+    const std::vector<double> unused(topology_.edges.size(), 0.0);
+    coding.operator_payload =
+        syntax::WriteDdlWeights(unused, topology_, options_.weight_bits, weight_prediction_,
+                                &syntax.edge_weights, std::numeric_limits<double>::infinity());
+  }
+  if (rank > 0) {
+    DMC_ASSIGN_OR_RETURN(coding.residual_payload,
+                         ResidualWriter(topology_, vertex_order_, coefficients)(syntax));
+  }
+  coding.header = syntax.header;
+  return Status::Ok();
+}
+
+SegmentResult SegmentEncoder::AppendChunks(const Segment& segment, const RankCoding& coding,
+                                           ByteWriter& out) const {
+  SegmentResult result;
+  result.rank = static_cast<int>(coding.header.rank);
+  result.anchors = static_cast<int>(segment.anchors.size());
+  result.operator_id = static_cast<OperatorId>(coding.header.operator_id);
+  auto append = [&](format::ChunkType type, const std::vector<uint8_t>& payload, uint64_t* size) {
+    const size_t before = out.size();
+    syntax::AppendChunk(out, type, payload);
+    *size += out.size() - before;
+  };
+  append(format::ChunkType::kSegmentHeader, syntax::WriteSegmentHeader(coding.header),
+         &result.sizes.header);
+  append(format::ChunkType::kMean, segment.mean_payload, &result.sizes.mean);
+  append(format::ChunkType::kBasis, coding.basis_payload, &result.sizes.basis);
+  append(format::ChunkType::kOperator, coding.operator_payload, &result.sizes.operator_info);
+  append(format::ChunkType::kAnchors, coding.anchor_payload, &result.sizes.anchors);
+  append(format::ChunkType::kResiduals, coding.residual_payload, &result.sizes.residuals);
+  return result;
+}
+
+}  // namespace dmc

@@ -1,0 +1,53 @@
+// The stream around the segments: the plan every encode of a sequence derives (segments, residual
+// step), the prefix (magic, version, sequence header, connectivity), the end chunk, and the
+// report's rate fields and bit breakdown.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bitstream/format.h"
+#include "dmc/encoder.h"
+#include "dmc/wire_ids.h"
+#include "encoder/connectivity_encoder.h"
+#include "encoder/segment_encoder.h"
+
+namespace dmc {
+
+// What every encode of a sequence derives from its shape, options and bounding box.
+struct StreamPlan {
+  OperatorId operator_id = OperatorId::kDdl;
+  double diagonal = 0.0;
+  double residual_step = 0.0;
+  int frames = 0;
+  // Equal-sized segments (differing by at most one frame): segment s holds frames
+  // [segment_first[s], segment_first[s + 1]).
+  std::vector<int> segment_first;
+  int segments() const { return static_cast<int>(segment_first.size()) - 1; }
+  int segment_frames(int s) const { return segment_first[s + 1] - segment_first[s]; }
+};
+
+StatusOr<StreamPlan> PlanStream(int frames, double diagonal, const EncoderOptions& options);
+
+// Magic, version, the sequence header chunk and the connectivity chunk.
+std::vector<uint8_t> StreamPrefix(int vertex_count, int triangle_count, const std::string& name,
+                                  double frame_rate, const StreamPlan& plan,
+                                  const ConnectivityCode& connectivity, format::ChunkSizes& totals);
+
+// The end chunk: it counts the chunks before it (sequence header, connectivity, 6 per segment).
+std::vector<uint8_t> StreamEnd(const StreamPlan& plan, format::ChunkSizes& totals);
+
+// Adds segment `index` (segments in order) to the totals and the report: its sizes, its operator,
+// and the rank and anchors rate control chose when it is the first.
+void RecordSegment(const SegmentResult& segment, int index, format::ChunkSizes& totals,
+                   EncodeReport* report);
+
+// The report's rate fields (rank and anchors are the first segment's, set as it is added).
+void FillRateReport(const StreamPlan& plan, int vertex_count, uint64_t bytes,
+                    const format::ChunkSizes& totals, EncodeReport& report);
+
+// kUnsupported when the counts exceed the format's limits.
+Status CheckFormatLimits(int vertex_count, int frame_count);
+
+}  // namespace dmc
