@@ -171,10 +171,10 @@ struct StreamingEncodeOptions {
 // with the real decoder and KG/STED/RMSE are accumulated over segments, equal to Encode()'s.
 // Memory: `segments_in_flight` segments' trajectories and fits, plus, when measuring, one
 // segment of decoded and original frames; never the whole sequence.
-// Rate control (target_bpfv / target_sted) streams too: Encode()'s search over the residual step,
-// each trial a streaming encode into a scratch file beside `output` (removed afterwards), then the
-// chosen step encoded to `output`; the source is read about 14 times, memory stays as above, and
-// the step, bytes and report are Encode()'s.
+// Rate control (target_bpfv / target_sted) streams too: a search over the residual step whose
+// trials are whole encodes into memory (the compressed stream only); the last trial that met the
+// target is written to `output`. The source is read about 14 times, memory stays as above, and
+// the step, bytes and report are Encode()'s (Encode() runs this same pipeline).
 Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                        const EncoderOptions& options, EncodeReport* report = nullptr,
                        const StreamingEncodeOptions& streaming = {});
