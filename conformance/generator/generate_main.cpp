@@ -24,12 +24,14 @@
 #include <numbers>
 #include <set>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
+#include "dmc/encoder_options.h"
 #include "dmc/synth.h"
 #include "encoder/range_encoder.h"
 #include "encoder/syntax_writer.h"
@@ -123,22 +125,14 @@ Source GridWithIsolatedVertex(int n, int frames) {
           }};
 }
 
-Json OptionsJson(const EncoderOptions& o) {
-  return {{"operator", o.operator_name},
-          {"rank", o.rank},
-          {"rank_threshold", o.rank_threshold},
-          {"basis_bits", o.basis_bits},
-          {"residual_bits", o.residual_bits},
-          {"anchors", o.anchors},
-          {"anchor_step_ratio", o.anchor_step_ratio},
-          {"segment_frames", o.segment_frames},
-          {"weight_bits", o.weight_bits},
-          {"ddl_regularization", o.ddl_regularization},
-          {"weight_prediction_uniform", o.weight_prediction_uniform},
-          {"ddl_fallback", o.ddl_fallback},
-          {"rank_search", o.rank_search},
-          {"allow_reorder", o.allow_reorder},
-          {"reference_bits", o.reference_bits}};
+// Every option that can change the bytes, under its table name (dmc/encoder_options.h).
+Json OptionsJson(const EncoderOptions& options) {
+  Json json = Json::object();
+  for (const EncoderOptionSpec& spec : EncoderOptionTable()) {
+    if (!spec.shapes_stream) continue;
+    std::visit([&](auto field) { json[std::string(spec.name)] = options.*field; }, spec.field);
+  }
+  return json;
 }
 
 // The vectors named after an operator cover that operator's decoding, so the DDL's per-segment

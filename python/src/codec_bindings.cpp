@@ -6,12 +6,15 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "arrays.h"
 #include "bindings.h"
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
+#include "dmc/encoder_options.h"
 #include "errors.h"
 
 namespace dmc::python {
@@ -156,53 +159,137 @@ py::object EncodeBinding(const py::handle& frames, const py::handle& faces,
   return py::make_tuple(std::move(stream), ReportToDict(report, options.operator_name));
 }
 
-constexpr const char* kEncodeDoc = R"(encode(frames, faces, *, operator="ddl", ...) -> bytes
+// "    name: help." wrapped at 100 columns, continuation lines indented as the other entries.
+std::string DocEntry(std::string_view name, std::string_view help) {
+  std::string entry;
+  std::string line = "    ";
+  line.append(name).append(":");
+  std::string_view rest = help;
+  while (!rest.empty()) {
+    const size_t space = rest.find(' ');
+    const std::string_view word = rest.substr(0, space);
+    rest = space == std::string_view::npos ? std::string_view() : rest.substr(space + 1);
+    if (line.size() + 1 + word.size() + (rest.empty() ? 1 : 0) > 100) {
+      entry.append(line).append("\n");
+      line.assign(7, ' ');
+    }
+    line.append(" ").append(word);
+  }
+  return entry.append(line).append(".\n");
+}
+
+// dmc.encode()'s docstring: the signature and one entry per option, from the option table.
+std::string EncodeDoc() {
+  const EncoderOptions defaults;
+  std::string signature = "encode(frames, faces, *";
+  std::string options;
+  for (const EncoderOptionSpec& spec : EncoderOptionTable()) {
+    const std::string value = std::visit(
+        [&](auto field) { return std::string(py::repr(py::cast(defaults.*field))); }, spec.field);
+    signature += ", " + std::string(spec.name) + "=" + value;
+    options += DocEntry(spec.name, spec.help);
+  }
+  signature += ", name='', frame_rate=0.0, return_report=False) -> bytes";
+  return signature + R"(
 
 Compresses a mesh sequence to a .dmc stream (trajectory PCA, Laplace operator, high-pass
 quantisation, range coding). The bytes are identical to what `dmc encode` writes for the same
 sequence and options (the CLI takes `name` from the input's stem and `frame_rate` from the files).
+The options are the CLI's flags, '_' written for '-' (ddl_mu=0.05 for --ddl-mu 0.05,
+ddl_fallback=False for --no-ddl-fallback).
 
 Args:
     frames: float32 array (F, V, 3), or (V, 3) for one frame; other real dtypes are converted.
     faces: int32 array (T, 3) of 0-based vertex indices.
-    operator: Laplace operator: ddl, tutte, kirchhoff, cotan, cotan-area, cotan-sym, mean-value
-        (see dmc.operators()).
-    rank: PCA basis vectors per segment; 0 = automatic.
-    rank_threshold: automatic rank keeps components with eigenvalue > T * V * step^2.
-    basis_bits: basis quantisation bits (2..16).
-    residual_bits: residual step = bounding-box diagonal * 2^-bits.
-    residual_step: absolute residual step; overrides residual_bits when > 0.
-    anchors: anchor vertices per segment; -1 = automatic.
-    anchor_step_ratio: anchor quantisation step relative to the residual step.
-    segment_frames: maximum frames per segment; 0 = default.
-    reference_bits: geometric operators: reference frame step = diagonal * 2^-bits.
-    weight_bits: DDL weight step 2^-bits.
-    ddl_mu: DDL Tikhonov pull toward Tutte (relative).
-    ddl_fallback: with operator ddl, code a segment with kirchhoff, tutte or mean-value instead
-        when that has the lower rate at equal STED (report["segment_operators"] names each
-        segment's choice); False = always the fitted DDL weights.
-    rank_search: with operator ddl, its fallback and an automatic rank, also code each segment
-        at the lower ranks of 2 and 4 times rank_threshold and keep the one with the lowest
-        bits * STED^0.8; False = the rank of rank_threshold alone.
-    uniform_weight_prediction: predict DDL weights by the uniform share instead of the degree
-        reference.
-    target_bpfv: > 0: search the residual step for this rate (bits per frame and vertex).
-    target_sted: > 0: search the residual step for this STED.
-    allow_reorder: let the stream use the codec's own vertex order (smaller connectivity).
-    name: sequence name stored in the stream.
+)" + options +
+         R"(    name: sequence name stored in the stream.
     frame_rate: frames per second stored in the stream (0 = unknown).
     return_report: also return a dict like `dmc encode --json` prints (bytes, bpfv, breakdown,
         rank, anchors, segments, residual_step, segment_operators, kg, sted, sted_s, sted_t,
-        rmse_rel, max_error).
-    measure: with return_report, decode the stream and measure KG/STED (else those are None).
+        rmse_rel, max_error); kg and the other distortions are None unless measure is True.
 
 Returns:
     bytes, or (bytes, report) when return_report is True.
 
 Raises:
-    dmc.Error: INVALID_ARGUMENT (bad shape, dtype or option), INVALID_SEQUENCE (index out of range,
-        non-finite coordinate, empty mesh), NOT_FOUND (unknown operator), ...
+    TypeError: an unknown keyword, or a value of the wrong type.
+    dmc.Error: INVALID_ARGUMENT (bad shape, dtype or option; the message names the keyword),
+        INVALID_SEQUENCE (index out of range, non-finite coordinate, empty mesh), NOT_FOUND
+        (unknown operator), ...
 )";
+}
+
+// A keyword's value converted as a typed pybind11 argument would be (TypeError otherwise:
+// rank="three", rank=2.5).
+template <typename T>
+T KeywordValue(const std::string& keyword, const py::handle& value) {
+  py::detail::make_caster<T> caster;
+  if (!caster.load(value, /*convert=*/true)) {
+    throw py::type_error("encode(): " + keyword + " must be " +
+                         py::detail::make_caster<T>::name.text + ", got " +
+                         py::str(py::type::of(value)).cast<std::string>());
+  }
+  return py::detail::cast_op<T>(std::move(caster));
+}
+
+py::list EncoderOptionList() {
+  const EncoderOptions defaults;
+  py::list list;
+  for (const EncoderOptionSpec& spec : EncoderOptionTable()) {
+    py::dict row;
+    row["name"] = std::string(spec.name);
+    std::visit(
+        [&](auto field) {
+          using T = std::remove_reference_t<decltype(defaults.*field)>;
+          row["type"] = std::string(py::detail::make_caster<T>::name.text);
+          row["default"] = defaults.*field;
+        },
+        spec.field);
+    row["flag"] = SpellOption(spec.name, OptionSpelling::kCliFlag);
+    row["help"] = std::string(spec.help);
+    row["shapes_stream"] = spec.shapes_stream;
+    list.append(row);
+  }
+  return list;
+}
+
+constexpr const char* kEncoderOptionsDoc = R"(encoder_options() -> list[dict]
+
+The encoder's options, in a fixed order: one dict per option with name (the dmc.encode() keyword
+and the key of conformance manifests), type ("int", "float", "bool" or "str"), default, flag (the
+`dmc encode` flag; a bool is also --no-<name>), help and shapes_stream (False for options that
+cannot change the stream's bytes, such as measure).
+)";
+
+py::object EncodeKeywords(const py::handle& frames, const py::handle& faces,
+                          const py::kwargs& keywords) {
+  EncoderOptions options;
+  std::string name;
+  double frame_rate = 0.0;
+  bool return_report = false;
+  for (const auto& [key, value] : keywords) {
+    const std::string keyword = key.cast<std::string>();
+    if (keyword == "name") {
+      name = KeywordValue<std::string>(keyword, value);
+    } else if (keyword == "frame_rate") {
+      frame_rate = KeywordValue<double>(keyword, value);
+    } else if (keyword == "return_report") {
+      return_report = KeywordValue<bool>(keyword, value);
+    } else if (const EncoderOptionSpec* spec = FindEncoderOption(keyword)) {
+      std::visit(
+          [&](auto field) {
+            using T = std::remove_reference_t<decltype(options.*field)>;
+            options.*field = KeywordValue<T>(keyword, value);
+          },
+          spec->field);
+    } else {
+      throw py::type_error("encode() got an unexpected keyword argument '" + keyword + "'");
+    }
+  }
+  // Without a report nobody sees the measurement, so it is skipped.
+  options.measure = options.measure && return_report;
+  return EncodeBinding(frames, faces, options, name, frame_rate, return_report);
+}
 
 constexpr const char* kDecodeDoc = R"(decode(data) -> (frames, faces)
 
@@ -240,54 +327,8 @@ Raises:
 }  // namespace
 
 void RegisterCodec(py::module_& module) {
-  const EncoderOptions defaults;
-  module.def(
-      "encode",
-      [](const py::handle& frames, const py::handle& faces, const std::string& operator_name,
-         int rank, double rank_threshold, int basis_bits, int residual_bits, double residual_step,
-         int anchors, double anchor_step_ratio, int segment_frames, int reference_bits,
-         int weight_bits, double ddl_mu, bool ddl_fallback, bool rank_search,
-         bool uniform_weight_prediction, double target_bpfv, double target_sted, bool allow_reorder,
-         const std::string& name, double frame_rate, bool return_report, bool measure) {
-        EncoderOptions options;
-        options.operator_name = operator_name;
-        options.rank = rank;
-        options.rank_threshold = rank_threshold;
-        options.basis_bits = basis_bits;
-        options.residual_bits = residual_bits;
-        options.residual_step = residual_step;
-        options.anchors = anchors;
-        options.anchor_step_ratio = anchor_step_ratio;
-        options.segment_frames = segment_frames;
-        options.reference_bits = reference_bits;
-        options.weight_bits = weight_bits;
-        options.ddl_regularization = ddl_mu;
-        options.ddl_fallback = ddl_fallback;
-        options.rank_search = rank_search;
-        options.weight_prediction_uniform = uniform_weight_prediction;
-        options.target_bpfv = target_bpfv;
-        options.target_sted = target_sted;
-        options.allow_reorder = allow_reorder;
-        options.measure = return_report && measure;
-        return EncodeBinding(frames, faces, options, name, frame_rate, return_report);
-      },
-      kEncodeDoc, py::arg("frames"), py::arg("faces"), py::kw_only(),
-      py::arg("operator") = defaults.operator_name, py::arg("rank") = defaults.rank,
-      py::arg("rank_threshold") = defaults.rank_threshold,
-      py::arg("basis_bits") = defaults.basis_bits,
-      py::arg("residual_bits") = defaults.residual_bits,
-      py::arg("residual_step") = defaults.residual_step, py::arg("anchors") = defaults.anchors,
-      py::arg("anchor_step_ratio") = defaults.anchor_step_ratio,
-      py::arg("segment_frames") = defaults.segment_frames,
-      py::arg("reference_bits") = defaults.reference_bits,
-      py::arg("weight_bits") = defaults.weight_bits,
-      py::arg("ddl_mu") = defaults.ddl_regularization,
-      py::arg("ddl_fallback") = defaults.ddl_fallback,
-      py::arg("rank_search") = defaults.rank_search,
-      py::arg("uniform_weight_prediction") = defaults.weight_prediction_uniform,
-      py::arg("target_bpfv") = defaults.target_bpfv, py::arg("target_sted") = defaults.target_sted,
-      py::arg("allow_reorder") = defaults.allow_reorder, py::arg("name") = "",
-      py::arg("frame_rate") = 0.0, py::arg("return_report") = false, py::arg("measure") = true);
+  module.def("encode", &EncodeKeywords, EncodeDoc().c_str(), py::arg("frames"), py::arg("faces"));
+  module.def("encoder_options", &EncoderOptionList, kEncoderOptionsDoc);
 
   module.def(
       "decode",

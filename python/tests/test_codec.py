@@ -133,6 +133,43 @@ class GilTest(unittest.TestCase):
         self.assertEqual(results, [expected] * len(results))
 
 
+class OptionTableTest(unittest.TestCase):
+    """dmc.encoder_options() is the table dmc.encode()'s keywords and `dmc encode`'s flags come
+    from."""
+
+    def setUp(self):
+        self.options = dmc.encoder_options()
+
+    def test_one_name_per_option_and_the_flag_is_the_name_with_dashes(self):
+        names = [option["name"] for option in self.options]
+        self.assertEqual(len(names), len(set(names)))
+        for option in self.options:
+            self.assertEqual(option["flag"], "--" + option["name"].replace("_", "-"))
+            self.assertIn(option["type"], {"int", "float", "bool", "str"})
+            self.assertIsInstance(option["default"], {"int": int, "float": float, "bool": bool,
+                                                      "str": str}[option["type"]])
+        self.assertIn("ddl_mu", names)
+        self.assertIn("uniform_weight_prediction", names)
+        self.assertFalse({"name", "frame_rate", "return_report"} & set(names))
+        self.assertEqual([o["name"] for o in self.options if not o["shapes_stream"]], ["measure"])
+
+    def test_every_option_is_a_keyword_taking_its_default(self):
+        frames, faces = support.small_animation()
+        defaults = {option["name"]: option["default"] for option in self.options}
+        self.assertEqual(dmc.encode(frames, faces, **defaults), dmc.encode(frames, faces))
+        self.assertIn("ddl_mu=0.1", dmc.encode.__doc__)
+        for option in self.options:
+            self.assertIn(f"    {option['name']}: ", dmc.encode.__doc__)
+
+    @support.require_cli
+    def test_every_option_is_a_cli_flag(self):
+        help_text = support.run_cli("encode", "--help")
+        for option in self.options:
+            self.assertIn(option["flag"], help_text)
+            if option["type"] == "bool":
+                self.assertIn("--no-" + option["flag"][2:], help_text)
+
+
 @support.require_cli
 class CliEqualityTest(unittest.TestCase):
     """Python and `dmc encode` give byte-identical streams for the same sequence and options."""
@@ -144,6 +181,7 @@ class CliEqualityTest(unittest.TestCase):
         {"operator": "ddl", "weight_bits": 6, "ddl_mu": 0.05, "uniform_weight_prediction": True,
          "allow_reorder": True, "rank_threshold": 5.0},
         {"ddl_fallback": False, "residual_bits": 9},
+        {"ddl_dead_zone": 0.0, "weight_bits": 5, "residual_step": 0.01, "rank_search": False},
     ]
 
     @classmethod
@@ -164,7 +202,7 @@ class CliEqualityTest(unittest.TestCase):
             flag = "--" + key.replace("_", "-")
             if value is True:
                 arguments.append(flag)
-            elif value is False:  # the CLI's switches are negative: --no-rank-search
+            elif value is False:  # every switch is also --no-<name>: --no-rank-search
                 arguments.append("--no-" + key.replace("_", "-"))
             else:
                 arguments += [flag, str(value)]

@@ -104,14 +104,27 @@ class BadInputTest(unittest.TestCase):
                           lambda: dmc.encode(self.positions, np.zeros((0, 3), np.int32)))
 
     def test_options_are_checked_by_the_library(self):
+        # The library's messages name the option, which is the keyword.
         self.assert_error(dmc.ErrorCode.INVALID_ARGUMENT,
-                          lambda: dmc.encode(self.positions, self.faces, basis_bits=40))
+                          lambda: dmc.encode(self.positions, self.faces, basis_bits=40),
+                          "basis_bits must be in [2, 16], got 40")
+        self.assert_error(dmc.ErrorCode.INVALID_ARGUMENT,
+                          lambda: dmc.encode(self.positions, self.faces, ddl_mu=-1.0),
+                          "ddl_mu must be >= 0")
+        self.assert_error(dmc.ErrorCode.INVALID_ARGUMENT,
+                          lambda: dmc.encode(self.positions, self.faces, target_bpfv=2.0,
+                                             target_sted=0.01),
+                          "give target_bpfv or target_sted, not both")
         error = self.assert_error(dmc.ErrorCode.NOT_FOUND,
                                   lambda: dmc.encode(self.positions, self.faces,
                                                      operator="nope"))
         self.assertIn("tutte", error.message)  # the message lists the names that exist
-        with self.assertRaises(TypeError):  # pybind11's own argument conversion
+        with self.assertRaisesRegex(TypeError, "rank must be int, got <class 'str'>"):
             dmc.encode(self.positions, self.faces, rank="three")
+        with self.assertRaisesRegex(TypeError, "name must be str"):
+            dmc.encode(self.positions, self.faces, name=3)
+        with self.assertRaisesRegex(TypeError, "unexpected keyword argument 'ddl_regularization'"):
+            dmc.encode(self.positions, self.faces, ddl_regularization=0.1)
 
     def test_damaged_streams_raise_stream_codes(self):
         frames, faces = support.small_animation()

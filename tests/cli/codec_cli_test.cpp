@@ -34,7 +34,12 @@ TEST_F(CodecCli, DdlFallbackCanBeTurnedOffAndIsReported) {
   ASSERT_EQ(fitted.exit_code, 0) << fitted.err;
   EXPECT_EQ(nlohmann::json::parse(fitted.out)["segment_operators"],
             nlohmann::json(std::vector<std::string>(6, "ddl")));
-  const CliResult fallback = RunDmc(encode + " --json");
+  // Every switch is --name and --no-name.
+  const CliResult fitted_too = RunDmc(encode + " --ddl-fallback --no-ddl-fallback --json");
+  ASSERT_EQ(fitted_too.exit_code, 0) << fitted_too.err;
+  EXPECT_EQ(nlohmann::json::parse(fitted_too.out)["segment_operators"],
+            nlohmann::json(std::vector<std::string>(6, "ddl")));
+  const CliResult fallback = RunDmc(encode + " --ddl-fallback --json");
   ASSERT_EQ(fallback.exit_code, 0) << fallback.err;
   const auto operators = nlohmann::json::parse(fallback.out)["segment_operators"];
   ASSERT_EQ(operators.size(), 6u);
@@ -104,9 +109,19 @@ TEST_F(CodecCli, EncodeReportsTheRequiredJsonAndDecodeRebuildsTheSequence) {
 
 TEST_F(CodecCli, BadOptionsAndDamagedStreamsGiveDistinctExitCodes) {
   const auto stream = dir_ / "blob.dmc";
-  EXPECT_EQ(
-      RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --basis-bits 1").exit_code,
-      11);
+  const std::string encode = "encode " + Quoted(input_) + " -o " + Quoted(stream);
+  // The library names options (basis_bits); the CLI shows its flags instead.
+  const CliResult coarse = RunDmc(encode + " --basis-bits 1");
+  EXPECT_EQ(coarse.exit_code, 11);
+  EXPECT_NE(coarse.err.find("--basis-bits must be in [2, 16], got 1"), std::string::npos)
+      << coarse.err;
+  const CliResult both = RunDmc(encode + " --target-bpfv 2 --target-sted 0.01");
+  EXPECT_EQ(both.exit_code, 11);
+  EXPECT_NE(both.err.find("give --target-bpfv or --target-sted, not both"), std::string::npos)
+      << both.err;
+  const CliResult mu = RunDmc(encode + " --ddl-mu -1 --json");
+  EXPECT_EQ(mu.exit_code, 11);
+  EXPECT_NE(mu.out.find("--ddl-mu must be >= 0"), std::string::npos) << mu.out;
   const CliResult unknown =
       RunDmc("encode " + Quoted(input_) + " -o " + Quoted(stream) + " --operator nope");
   EXPECT_EQ(unknown.exit_code, 20);

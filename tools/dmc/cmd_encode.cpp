@@ -8,11 +8,14 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "cli_util.h"
 #include "commands.h"
 #include "dmc/encoder.h"
+#include "dmc/encoder_options.h"
 #include "dmc/io.h"
 
 namespace dmc::cli {
@@ -24,9 +27,6 @@ struct EncodeArgs {
   std::string connectivity;
   EncoderOptions options;
   GltfReadFlags gltf;
-  bool no_measure = false;
-  bool no_ddl_fallback = false;
-  bool no_rank_search = false;
   bool json = false;
   bool progress = false;
 };
@@ -91,10 +91,11 @@ std::string OperatorSummary(const std::string& requested,
 }
 
 int RunEncode(const EncodeArgs& args) {
-  EncoderOptions options = args.options;
-  options.measure = !args.no_measure;
-  options.ddl_fallback = !args.no_ddl_fallback;
-  options.rank_search = !args.no_rank_search;
+  const EncoderOptions& options = args.options;
+  // Checked here as well as by the encoder so that the message names the flags.
+  if (const Status valid = ValidateOptions(options, OptionSpelling::kCliFlag); !valid.ok()) {
+    return ReportError("encode", valid, args.json);
+  }
   EncodeReport report;
   const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);
@@ -150,6 +151,26 @@ int RunEncode(const EncodeArgs& args) {
   return 0;
 }
 
+// Every option of the table (dmc/encoder_options.h) as a flag bound to its field: --name VALUE,
+// or for a switch --name and --no-name.
+void AddEncoderOptions(CLI::App* app, EncoderOptions& options) {
+  for (const EncoderOptionSpec& spec : EncoderOptionTable()) {
+    const std::string flag = SpellOption(spec.name, OptionSpelling::kCliFlag);
+    const std::string help(spec.help);
+    std::visit(
+        [&](auto field) {
+          auto& value = options.*field;
+          if constexpr (std::is_same_v<std::remove_reference_t<decltype(value)>, bool>) {
+            app->add_flag(flag + ",!--no-" + flag.substr(2), value,
+                          help + (value ? " (default: on)" : " (default: off)"));
+          } else {
+            app->add_option(flag, value, help)->capture_default_str();
+          }
+        },
+        spec.field);
+  }
+}
+
 }  // namespace
 
 Command AddEncodeCommand(CLI::App& parent) {
@@ -161,51 +182,7 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_option("-o,--output", args->output, "Output .dmc file")->required();
   app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
   AddGltfReadOptions(app, &args->gltf);
-  EncoderOptions& o = args->options;
-  app->add_option(
-         "--operator", o.operator_name,
-         "Laplace operator: ddl, tutte, kirchhoff, cotan, cotan-area, cotan-sym, mean-value")
-      ->capture_default_str();
-  app->add_option("--rank", o.rank, "PCA basis vectors per segment (0 = automatic)")
-      ->capture_default_str();
-  app->add_option("--rank-threshold", o.rank_threshold,
-                  "Automatic rank: keep components with eigenvalue > T * V * step^2")
-      ->capture_default_str();
-  app->add_option("--basis-bits", o.basis_bits, "Basis quantisation bits")->capture_default_str();
-  app->add_option("--residual-bits", o.residual_bits,
-                  "Residual step = bounding-box diagonal * 2^-bits")
-      ->capture_default_str();
-  app->add_option("--residual-step", o.residual_step, "Absolute residual step (overrides bits)");
-  app->add_option("--anchors", o.anchors, "Anchor vertices per segment (-1 = automatic)")
-      ->capture_default_str();
-  app->add_option("--anchor-step-ratio", o.anchor_step_ratio,
-                  "Anchor quantisation step relative to the residual step")
-      ->capture_default_str();
-  app->add_option("--segment-frames", o.segment_frames, "Maximum frames per segment (0 = default)")
-      ->capture_default_str();
-  app->add_option("--reference-bits", o.reference_bits,
-                  "Geometric operators: reference frame step = diagonal * 2^-bits")
-      ->capture_default_str();
-  app->add_option("--weight-bits", o.weight_bits, "DDL weight step 2^-bits")->capture_default_str();
-  app->add_option("--ddl-mu", o.ddl_regularization, "DDL Tikhonov pull toward Tutte")
-      ->capture_default_str();
-  app->add_option("--ddl-dead-zone", o.ddl_dead_zone,
-                  "DDL weights this close to their prediction (weight units) are sent as "
-                  "predicted: 0.5 = rounding, inf = predicted only, 0 = choose per segment")
-      ->capture_default_str();
-  app->add_flag("--no-ddl-fallback", args->no_ddl_fallback,
-                "ddl: always code the fitted weights, never kirchhoff, tutte or mean-value for a "
-                "segment where they have the lower rate at equal STED");
-  app->add_flag("--no-rank-search", args->no_rank_search,
-                "ddl with an automatic rank: code each segment at the rank of --rank-threshold "
-                "only, not also at the lower ranks of 2 and 4 times it");
-  app->add_flag("--uniform-weight-prediction", o.weight_prediction_uniform,
-                "DDL weights predicted by the thesis's uniform share, not the degree reference");
-  app->add_option("--target-bpfv", o.target_bpfv, "Search parameters for this rate");
-  app->add_option("--target-sted", o.target_sted, "Search parameters for this STED");
-  app->add_flag("--allow-reorder", o.allow_reorder,
-                "Let the output use the codec's vertex order (smaller connectivity)");
-  app->add_flag("--no-measure", args->no_measure, "Skip decoding and measuring KG/STED");
+  AddEncoderOptions(app, args->options);
   app->add_flag("--json", args->json, "Machine-readable output");
   app->add_flag("--progress", args->progress,
                 "Show progress on stderr even when it is not a terminal");

@@ -26,6 +26,8 @@
 
 namespace dmc {
 
+// Each field is one row of the option table (dmc/encoder_options.h), which gives it its name as
+// a CLI flag, a Python keyword and a manifest key; a new field needs a row there too.
 struct EncoderOptions {
   std::string operator_name = "ddl";  // any codec-capable operator of the registry
   int rank = 0;                       // PCA basis vectors per segment; 0 = automatic

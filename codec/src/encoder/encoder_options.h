@@ -1,13 +1,5 @@
-// Validation of EncoderOptions: every field's range, and the combinations the encoder refuses.
+// Validation of EncoderOptions (ValidateOptions) is public, with the option table, in
+// dmc/encoder_options.h; the encoder's files include it through here.
 #pragma once
 
-#include "dmc/encoder.h"
-#include "dmc/status.h"
-
-namespace dmc {
-
-// kInvalidArgument naming the field and its valid range; the operator name as CodecOperatorId
-// checks it.
-Status ValidateOptions(const EncoderOptions& options);
-
-}  // namespace dmc
+#include "dmc/encoder_options.h"
