@@ -16,8 +16,8 @@ namespace {
 // Rate–distortion slope used to compare codings at slightly different distortions: a coding
 // whose STED is e^x times another's is worth kStedSlopeBits · x bits per frame and vertex. It is
 // the slope of bpfv against ln STED measured on the encode ladders of samba, crane and
-// horse-gallop between STED 0.02 and 0.05 (0.3–0.9; RD.md, "Operator choice"). Candidates reach STEDs
-// within about 20 % of each other (their steps are matched, below), so the choice is not
+// horse-gallop between STED 0.02 and 0.05 (0.3–0.9; RD.md, "Operator fallback"). Candidates reach
+// STEDs within about 20 % of each other (their steps are matched, below), so the choice is not
 // sensitive to its exact value.
 constexpr double kStedSlopeBits = 0.5;
 

@@ -1,5 +1,5 @@
 // Binary range encoder (LZMA-style carry-propagating range coder with 16-bit probabilities).
-// The exact arithmetic is normative: see bitstream-spec/dmc-format.md §Arithmetic coding and
+// The exact arithmetic is normative: see bitstream-spec/dmc-format.md §5.1 and §5.4, and
 // codec/src/decoder/range_decoder.h for the mirror.
 #pragma once
 
