@@ -1,8 +1,8 @@
 // How full encode and decode scale: with the vertex count (walker at 1k, 10k, 100k, 1M vertices,
 // 20 frames) and with the frame count (10k vertices, 50, 200, 1000 frames), for the default DDL
 // operator and for Tutte (no fit: the rest of the pipeline alone). Default options otherwise
-// (10 residual bits, automatic rank, segments of at most 256 frames). The exponents measured from
-// these runs are in tests/bench/README.md.
+// (10 residual bits, automatic rank, segments of at most 256 frames). The exponents of the last
+// full run are in CHANGELOG.md.
 //
 //   dmc_bench --benchmark_filter='Scaling'             (all: several minutes on 2 cores)
 //   dmc_bench --benchmark_filter='Scaling.*vertices:1000000/'  (the 1M-vertex points)

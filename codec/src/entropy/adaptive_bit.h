@@ -1,6 +1,6 @@
 // Adaptive binary probability models shared by the range encoder and decoder.
 //
-// Normative (bitstream spec §Arithmetic coding): a model holds two 16-bit estimates of P(bit = 0),
+// Normative (bitstream spec §5.2): a model holds two 16-bit estimates of P(bit = 0),
 // `fast` and `slow`, both starting at 32768, and an adaptation count starting at 0. The probability
 // used to code a bit is p0 = (fast + slow) >> 1 (always within [15, 65521]). After coding a bit b,
 // with shifts sf = min(1 + count, 4) and ss = min(1 + count, 7):
