@@ -30,14 +30,10 @@ StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
                                                  const SegmentSyntax& syntax);
 
 // Fill-reducing ordering of the normal matrix LᵀL + anchors: AMD below this many vertices, nested
-// dissection (METIS) from there on. Measured on walker Tutte normal matrices (CHOLMOD supernodal,
-// OpenBLAS, one BLAS thread; analyse + factorise, then fill of the factor):
-//   V =  30k: AMD  48 + 282 ms, 3.0 M;   METIS  255 + 131 ms, 2.8 M
-//   V =  50k: AMD  34 + 330 ms, 6.3 M;   METIS  434 + 256 ms, 5.2 M
-//   V = 100k: AMD  72 + 809 ms, 14.5 M;  METIS  917 + 593 ms, 11.8 M
-//   V = 300k: AMD 269 + 3884 ms, 55 M;   METIS 2962 + 2319 ms, 42.5 M
-// METIS's analysis costs more than the factorisation it saves up to 300k; beyond, the factor's
-// memory (+30 % with AMD) weighs more. The ordering changes only the last bits of the solution.
+// dissection (METIS) from there on: below it, METIS's analysis costs more than the factorisation
+// it saves; beyond, the factor's extra memory under AMD weighs more (the measurement and how to
+// re-run it: tests/bench/README.md, "Normal matrices ordered by AMD"). The ordering changes only
+// the last bits of the solution.
 inline constexpr int kNormalMatrixNestedDissectionThreshold = 300000;
 SolverOrdering NormalMatrixOrdering(int vertex_count);
 
