@@ -7,6 +7,7 @@
 #include <string>
 
 #include "dmc/sequence.h"
+#include "synth/grid_triangles.h"
 
 // 1 when a sanitizer replaces the allocator (tools/sanitize.sh, tools/fuzz.sh): heap and RSS
 // figures then include its quarantine and shadow memory, so tests measure them unsanitized only.
@@ -49,16 +50,7 @@ inline MeshSequence Tetrahedron(int frames = 1) {
 
 // An n×n vertex grid in the z = 0 plane on [0,1]², two triangles per cell.
 inline MeshSequence PlanarGrid(int n, int frames = 1) {
-  Triangles tris(2 * (n - 1) * (n - 1), 3);
-  int t = 0;
-  for (int y = 0; y + 1 < n; ++y) {
-    for (int x = 0; x + 1 < n; ++x) {
-      const int v = y * n + x;
-      tris.row(t++) << v, v + 1, v + n + 1;
-      tris.row(t++) << v, v + n + 1, v + n;
-    }
-  }
-  MeshSequence seq(n * n, tris, frames);
+  MeshSequence seq(n * n, synth::GridTriangles(n, n, synth::GridDiagonals::kUniform), frames);
   for (int f = 0; f < frames; ++f) {
     for (int v = 0; v < n * n; ++v) {
       seq.frame(f).row(v) << static_cast<float>(v % n) / static_cast<float>(n - 1),

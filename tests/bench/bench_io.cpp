@@ -12,6 +12,7 @@
 #include <string>
 
 #include "dmc/io.h"
+#include "synth/grid_triangles.h"
 
 namespace dmc {
 namespace {
@@ -89,16 +90,7 @@ BENCHMARK(BM_IoReadObjFrameOpenMesh)->Unit(benchmark::kMillisecond);
 
 // A smoothly waving n x n grid, `frames` frames.
 MeshSequence WavingGrid(int n, int frames) {
-  Triangles triangles(2 * (n - 1) * (n - 1), 3);
-  int t = 0;
-  for (int y = 0; y + 1 < n; ++y) {
-    for (int x = 0; x + 1 < n; ++x) {
-      const int v = y * n + x;
-      triangles.row(t++) << v, v + 1, v + n + 1;
-      triangles.row(t++) << v, v + n + 1, v + n;
-    }
-  }
-  MeshSequence sequence(n * n, triangles, frames);
+  MeshSequence sequence(n * n, synth::GridTriangles(n, n, synth::GridDiagonals::kUniform), frames);
   for (int f = 0; f < frames; ++f) {
     for (int v = 0; v < n * n; ++v) {
       const float x = static_cast<float>(v % n) / static_cast<float>(n - 1);

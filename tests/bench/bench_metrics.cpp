@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "dmc/metrics.h"
+#include "synth/grid_triangles.h"
 
 namespace dmc {
 namespace {
@@ -19,15 +20,7 @@ constexpr int kFrames = 150;
 // A 100×100 grid sheet waving smoothly over 150 frames, and a copy with small noise added.
 const std::pair<MeshSequence, MeshSequence>& WavingSheetPair() {
   static const std::pair<MeshSequence, MeshSequence> pair = [] {
-    Triangles tris(2 * (kSide - 1) * (kSide - 1), 3);
-    int t = 0;
-    for (int y = 0; y + 1 < kSide; ++y) {
-      for (int x = 0; x + 1 < kSide; ++x) {
-        const int v = y * kSide + x;
-        tris.row(t++) << v, v + 1, v + kSide + 1;
-        tris.row(t++) << v, v + kSide + 1, v + kSide;
-      }
-    }
+    const Triangles tris = synth::GridTriangles(kSide, kSide, synth::GridDiagonals::kUniform);
     MeshSequence original(kSide * kSide, tris, kFrames);
     MeshSequence distorted(kSide * kSide, tris, kFrames);
     std::mt19937 rng(1);

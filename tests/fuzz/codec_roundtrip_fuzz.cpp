@@ -13,6 +13,7 @@
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
 #include "fuzz_support.h"
+#include "synth/grid_triangles.h"
 
 namespace {
 
@@ -46,15 +47,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   options.residual_bits = 4 + bytes.Next() % 16;
   options.segment_frames = (flags & 4) != 0 ? 2 : 0;
 
-  dmc::Triangles triangles(2 * (n - 1) * (n - 1), 3);
-  int t = 0;
-  for (int y = 0; y + 1 < n; ++y) {
-    for (int x = 0; x + 1 < n; ++x) {
-      const int v = y * n + x;
-      triangles.row(t++) << v, v + 1, v + n + 1;
-      triangles.row(t++) << v, v + n + 1, v + n;
-    }
-  }
+  const dmc::Triangles triangles =
+      dmc::synth::GridTriangles(n, n, dmc::synth::GridDiagonals::kUniform);
   const int v_count = n * n + (isolated ? 1 : 0);
   dmc::MeshSequence sequence(v_count, triangles, frames);
   for (int f = 0; f < frames; ++f) {

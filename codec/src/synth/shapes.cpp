@@ -8,6 +8,8 @@
 #include <numbers>
 #include <utility>
 
+#include "synth/grid_triangles.h"
+
 namespace dmc::synth {
 
 namespace {
@@ -88,36 +90,55 @@ RestMesh BuildCapsule(double radius, double length, const CapsuleLayout& layout)
   return mesh;
 }
 
-RestMesh BuildGeodesicSphere(int frequency) {
-  const int n = frequency;
+namespace {
+
+// The regular icosahedron with corners (0, ±1, ±φ) and cyclic permutations, faces oriented
+// outwards.
+struct Icosahedron {
+  std::array<Eigen::Vector3d, 12> corners;
+  std::array<std::array<int, 3>, 20> faces;
+};
+
+Icosahedron OutwardIcosahedron() {
   const double phi = std::numbers::phi;
-  const std::array<Eigen::Vector3d, 12> corners = {{
-      {-1, phi, 0},
-      {1, phi, 0},
-      {-1, -phi, 0},
-      {1, -phi, 0},
-      {0, -1, phi},
-      {0, 1, phi},
-      {0, -1, -phi},
-      {0, 1, -phi},
-      {phi, 0, -1},
-      {phi, 0, 1},
-      {-phi, 0, -1},
-      {-phi, 0, 1},
-  }};
-  std::array<std::array<int, 3>, 20> faces = {{
-      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1},
-  }};
+  Icosahedron ico{
+      {{
+          {-1, phi, 0},
+          {1, phi, 0},
+          {-1, -phi, 0},
+          {1, -phi, 0},
+          {0, -1, phi},
+          {0, 1, phi},
+          {0, -1, -phi},
+          {0, 1, -phi},
+          {phi, 0, -1},
+          {phi, 0, 1},
+          {-phi, 0, -1},
+          {-phi, 0, 1},
+      }},
+      {{
+          {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+          {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+          {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1},
+      }}};
   // Orient every face outwards: the icosahedron is centred on the origin, so a face's normal must
   // point the same way as its centroid.
-  for (auto& face : faces) {
-    const Eigen::Vector3d& a = corners[face[0]];
-    const Eigen::Vector3d& b = corners[face[1]];
-    const Eigen::Vector3d& c = corners[face[2]];
+  for (auto& face : ico.faces) {
+    const Eigen::Vector3d& a = ico.corners[face[0]];
+    const Eigen::Vector3d& b = ico.corners[face[1]];
+    const Eigen::Vector3d& c = ico.corners[face[2]];
     if ((b - a).cross(c - a).dot(a + b + c) < 0.0) std::swap(face[1], face[2]);
   }
+  return ico;
+}
+
+}  // namespace
+
+RestMesh BuildGeodesicSphere(int frequency) {
+  const int n = frequency;
+  const Icosahedron ico = OutwardIcosahedron();
+  const auto& corners = ico.corners;
+  const auto& faces = ico.faces;
 
   const int vertex_count = 10 * n * n + 2;
   RestMesh mesh;
@@ -198,21 +219,7 @@ RestMesh BuildGrid(int columns, int rows, double width, double height) {
           0.0;
     }
   }
-  mesh.triangles.resize(2 * (columns - 1) * (rows - 1), 3);
-  int t = 0;
-  for (int r = 0; r + 1 < rows; ++r) {
-    for (int c = 0; c + 1 < columns; ++c) {
-      const int v00 = r * columns + c, v10 = v00 + 1;
-      const int v01 = v00 + columns, v11 = v01 + 1;
-      if ((r + c) % 2 == 0) {
-        mesh.triangles.row(t++) << v00, v10, v11;
-        mesh.triangles.row(t++) << v00, v11, v01;
-      } else {
-        mesh.triangles.row(t++) << v00, v10, v01;
-        mesh.triangles.row(t++) << v10, v11, v01;
-      }
-    }
-  }
+  mesh.triangles = GridTriangles(columns, rows, GridDiagonals::kAlternating);
   return mesh;
 }
 

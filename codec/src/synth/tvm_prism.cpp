@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "synth/random.h"
 #include "synth/shapes.h"
@@ -23,18 +24,34 @@ Eigen::Vector2d Corner(int side) {
   return {std::cos(angle), std::sin(angle)};
 }
 
-// A closed pentagonal prism: `per_side` intervals along each pentagon edge, `rows` intervals along
-// the height; caps are concentric pentagonal rings. `flip` mirrors the side quads' diagonals.
-// Outward counter-clockwise triangles.
-tvm::TvmFrame BuildPrism(int per_side, int rows, bool flip) {
-  const int m = per_side;
-  const int ring = kSides * m;  // vertices on one pentagon outline
-  // Vertex layout: side rows 0..rows (row 0 at the bottom), then the interior rings j = 1..m-1 of
-  // the bottom cap and the top cap, then the two cap centres.
-  const int cap_interior = kSides * m * (m - 1) / 2;
-  const int vertex_count = ring * (rows + 1) + 2 * cap_interior + 2;
-  tvm::TvmFrame frame;
-  frame.positions.resize(vertex_count, 3);
+// Vertex layout of a prism with `per_side` intervals along each pentagon edge and `rows` along
+// the height: side rows 0..rows (row 0 at the bottom), then the interior rings j = 1..m-1 of the
+// bottom cap and the top cap, then the two cap centres.
+struct PrismLayout {
+  PrismLayout(int per_side, int rows_) : m(per_side), rows(rows_) {}
+  int m;
+  int rows;
+  int ring = kSides * m;  // vertices on one pentagon outline
+  int cap_interior = kSides * m * (m - 1) / 2;
+  int bottom_interior = ring * (rows + 1);
+  int top_interior = bottom_interior + cap_interior;
+  int bottom_centre = top_interior + cap_interior;
+  int top_centre = bottom_centre + 1;
+  int vertex_count() const { return top_centre + 1; }
+  int ring_start(int j) const { return kSides * j * (j - 1) / 2; }  // offset of ring j >= 1
+  // Vertex `index` (taken modulo the ring's size) of cap ring j: ring 0 is the centre, ring m the
+  // outline.
+  int cap_vertex(bool top, int j, int index) const {
+    if (j == 0) return top ? top_centre : bottom_centre;
+    index %= kSides * j;
+    if (j == m) return (top ? rows * ring : 0) + index;
+    return (top ? top_interior : bottom_interior) + ring_start(j) + index;
+  }
+};
+
+void PlacePrismVertices(const PrismLayout& layout, tvm::TvmFrame& frame) {
+  const int m = layout.m;
+  frame.positions.resize(layout.vertex_count(), 3);
   auto outline = [&](int j, int index) {  // point `index` of the ring at scale j / m
     const int side = index / std::max(j, 1);
     const int step = index % std::max(j, 1);
@@ -42,28 +59,61 @@ tvm::TvmFrame BuildPrism(int per_side, int rows, bool flip) {
         Corner(side) + (Corner(side + 1) - Corner(side)) * (static_cast<double>(step) / j);
     return Eigen::Vector2d(p * (static_cast<double>(j) / m));
   };
-  for (int row = 0; row <= rows; ++row) {
-    const double z = -kHalfHeight + 2.0 * kHalfHeight * row / rows;
-    for (int i = 0; i < ring; ++i) {
+  for (int row = 0; row <= layout.rows; ++row) {
+    const double z = -kHalfHeight + 2.0 * kHalfHeight * row / layout.rows;
+    for (int i = 0; i < layout.ring; ++i) {
       const Eigen::Vector2d p = outline(m, i);
-      frame.positions.row(row * ring + i) << p.x(), p.y(), z;
+      frame.positions.row(row * layout.ring + i) << p.x(), p.y(), z;
     }
   }
-  const int bottom_interior = ring * (rows + 1);
-  const int top_interior = bottom_interior + cap_interior;
-  const int bottom_centre = top_interior + cap_interior;
-  const int top_centre = bottom_centre + 1;
-  auto ring_start = [&](int j) { return kSides * j * (j - 1) / 2; };  // offset of ring j >= 1
   for (int j = 1; j < m; ++j) {
     for (int i = 0; i < kSides * j; ++i) {
       const Eigen::Vector2d p = outline(j, i);
-      frame.positions.row(bottom_interior + ring_start(j) + i) << p.x(), p.y(), -kHalfHeight;
-      frame.positions.row(top_interior + ring_start(j) + i) << p.x(), p.y(), kHalfHeight;
+      frame.positions.row(layout.bottom_interior + layout.ring_start(j) + i) << p.x(), p.y(),
+          -kHalfHeight;
+      frame.positions.row(layout.top_interior + layout.ring_start(j) + i) << p.x(), p.y(),
+          kHalfHeight;
     }
   }
-  frame.positions.row(bottom_centre) << 0.0, 0.0, -kHalfHeight;
-  frame.positions.row(top_centre) << 0.0, 0.0, kHalfHeight;
+  frame.positions.row(layout.bottom_centre) << 0.0, 0.0, -kHalfHeight;
+  frame.positions.row(layout.top_centre) << 0.0, 0.0, kHalfHeight;
+}
 
+// Caps: between ring j-1 and ring j, sector by sector.
+void AppendCapTriangles(const PrismLayout& layout, std::vector<std::array<int32_t, 3>>& triangles) {
+  for (const bool top : {false, true}) {
+    auto add = [&](int a, int b, int c) {
+      // Counter-clockwise seen from +z is outward on the top cap; reversed on the bottom.
+      if (top) {
+        triangles.push_back({a, b, c});
+      } else {
+        triangles.push_back({a, c, b});
+      }
+    };
+    for (int j = 1; j <= layout.m; ++j) {
+      for (int side = 0; side < kSides; ++side) {
+        for (int t = 0; t < j; ++t) {
+          const int outer = layout.cap_vertex(top, j, side * j + t);
+          const int outer_next = layout.cap_vertex(top, j, side * j + t + 1);
+          add(outer, outer_next, layout.cap_vertex(top, j - 1, side * (j - 1) + t));
+          if (t + 1 < j) {
+            add(layout.cap_vertex(top, j - 1, side * (j - 1) + t), outer_next,
+                layout.cap_vertex(top, j - 1, side * (j - 1) + t + 1));
+          }
+        }
+      }
+    }
+  }
+}
+
+// A closed pentagonal prism: `per_side` intervals along each pentagon edge, `rows` intervals along
+// the height; caps are concentric pentagonal rings. `flip` mirrors the side quads' diagonals.
+// Outward counter-clockwise triangles.
+tvm::TvmFrame BuildPrism(int per_side, int rows, bool flip) {
+  const PrismLayout layout(per_side, rows);
+  const int ring = layout.ring;
+  tvm::TvmFrame frame;
+  PlacePrismVertices(layout, frame);
   std::vector<std::array<int32_t, 3>> triangles;
   for (int row = 0; row < rows; ++row) {
     for (int i = 0; i < ring; ++i) {
@@ -78,37 +128,7 @@ tvm::TvmFrame BuildPrism(int per_side, int rows, bool flip) {
       }
     }
   }
-  // Caps: between ring j-1 and ring j, sector by sector (ring 0 is the centre, ring m the outline).
-  auto cap_vertex = [&](bool top, int j, int index) -> int {
-    if (j == 0) return top ? top_centre : bottom_centre;
-    const int count = kSides * j;
-    index %= count;
-    if (j == m) return (top ? rows * ring : 0) + index;
-    return (top ? top_interior : bottom_interior) + ring_start(j) + index;
-  };
-  for (const bool top : {false, true}) {
-    auto add = [&](int a, int b, int c) {
-      // Counter-clockwise seen from +z is outward on the top cap; reversed on the bottom.
-      if (top) {
-        triangles.push_back({a, b, c});
-      } else {
-        triangles.push_back({a, c, b});
-      }
-    };
-    for (int j = 1; j <= m; ++j) {
-      for (int side = 0; side < kSides; ++side) {
-        for (int t = 0; t < j; ++t) {
-          const int outer = cap_vertex(top, j, side * j + t);
-          const int outer_next = cap_vertex(top, j, side * j + t + 1);
-          add(outer, outer_next, cap_vertex(top, j - 1, side * (j - 1) + t));
-          if (t + 1 < j) {
-            add(cap_vertex(top, j - 1, side * (j - 1) + t), outer_next,
-                cap_vertex(top, j - 1, side * (j - 1) + t + 1));
-          }
-        }
-      }
-    }
-  }
+  AppendCapTriangles(layout, triangles);
   frame.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
   for (size_t t = 0; t < triangles.size(); ++t) {
     for (int c = 0; c < 3; ++c) frame.triangles(static_cast<Eigen::Index>(t), c) = triangles[t][c];

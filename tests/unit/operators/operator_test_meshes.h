@@ -14,6 +14,7 @@
 
 #include "dmc/sequence.h"
 #include "dmc/topology.h"
+#include "synth/grid_triangles.h"
 #include "test_support.h"
 
 namespace dmc::testing {
@@ -22,21 +23,7 @@ namespace dmc::testing {
 // and y (jitter < 0.5 keeps every triangle positively oriented), diagonals alternating so that
 // valences vary between 4 and 8.
 inline MeshSequence JitteredPlanarGrid(int n, double jitter, unsigned seed = 7) {
-  Triangles tris(2 * (n - 1) * (n - 1), 3);
-  int t = 0;
-  for (int y = 0; y + 1 < n; ++y) {
-    for (int x = 0; x + 1 < n; ++x) {
-      const int v = y * n + x;
-      if ((x + y) % 2 == 0) {
-        tris.row(t++) << v, v + 1, v + n + 1;
-        tris.row(t++) << v, v + n + 1, v + n;
-      } else {
-        tris.row(t++) << v, v + 1, v + n;
-        tris.row(t++) << v + 1, v + n + 1, v + n;
-      }
-    }
-  }
-  MeshSequence seq(n * n, tris, 1);
+  MeshSequence seq(n * n, synth::GridTriangles(n, n, synth::GridDiagonals::kAlternating), 1);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> offset(-jitter, jitter);
   const double h = 1.0 / (n - 1);
