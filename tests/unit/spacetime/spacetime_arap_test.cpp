@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "dmc/spacetime.h"
@@ -209,28 +210,53 @@ TEST(SpacetimeArap, BlockLdltAndSparseCholeskyAgree) {
   }
 }
 
-TEST(SpacetimeArap, RejectsBadOptionsAndConstraints) {
+// Create's status: kInvalidArgument with a message that contains `message`.
+void ExpectRejected(const MeshSequence& seq, const SpacetimeArapConstraints& constraints,
+                    const SpacetimeArapOptions& options, const std::string& message) {
+  const Status status = SpacetimeArapEditor::Create(seq, constraints, options).status();
+  EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument) << message;
+  EXPECT_NE(status.message().find(message), std::string::npos) << status.message();
+}
+
+TEST(SpacetimeArap, RejectsBadOptionsAndConstraintsNamingTheProblem) {
   const MeshSequence seq = WavingGrid(3);
-  SpacetimeArapConstraints constraints = CentreHandlesBorderFixed();
+  const SpacetimeArapConstraints constraints = CentreHandlesBorderFixed();
   SpacetimeArapOptions options;
   options.window = 0;
-  EXPECT_EQ(SpacetimeArapEditor::Create(seq, constraints, options).status().code(),
-            ErrorCode::kInvalidArgument);
+  ExpectRejected(seq, constraints, options, "spacetime-arap: window must be >= 1");
   options.window = 1;
   options.key_frame = 3;
-  EXPECT_EQ(SpacetimeArapEditor::Create(seq, constraints, options).status().code(),
-            ErrorCode::kInvalidArgument);
+  ExpectRejected(seq, constraints, options,
+                 "spacetime-arap: key frame 3 outside the sequence's 3 frames");
   options.key_frame = 1;
   options.alpha = -1.0;
-  EXPECT_EQ(SpacetimeArapEditor::Create(seq, constraints, options).status().code(),
-            ErrorCode::kInvalidArgument);
+  ExpectRejected(seq, constraints, options, "spacetime-arap: alpha must be a finite value > 0");
   options.alpha = 1.0;
+  options.tolerance = 0.0;
+  ExpectRejected(
+      seq, constraints, options,
+      "spacetime-arap: tolerance and constraint weight must be > 0, max iterations >= 0");
+  options.tolerance = 1e-5;
+  options.key_frame = 0;
+  ExpectRejected(WavingGrid(1), constraints, options,
+                 "spacetime-arap: the window holds one frame; the sequence needs at least two");
+  options.key_frame = 1;
   SpacetimeArapConstraints overlapping = constraints;
   overlapping.fixed.push_back(constraints.handles[0]);
-  EXPECT_EQ(SpacetimeArapEditor::Create(seq, overlapping, options).status().code(),
-            ErrorCode::kInvalidArgument);
-  EXPECT_EQ(SpacetimeArapEditor::Create(seq, {}, options).status().code(),
-            ErrorCode::kInvalidArgument);
+  ExpectRejected(seq, overlapping, options,
+                 "spacetime-arap: vertex " + std::to_string(constraints.handles[0]) +
+                     " is both a handle and fixed");
+  ExpectRejected(seq, {}, options, "spacetime-arap: no handle vertex to edit");
+  SpacetimeArapConstraints outside = constraints;
+  outside.handles.push_back(64);
+  ExpectRejected(seq, outside, options, "spacetime-arap: handle 64 outside [0, 64)");
+  outside = constraints;
+  outside.fixed.push_back(-1);
+  ExpectRejected(seq, outside, options, "spacetime-arap: fixed vertex -1 outside [0, 64)");
+  options.frame_times = {0.0, 1.0};
+  ExpectRejected(seq, constraints, options,
+                 "spacetime-arap: frame_times holds 2 times for 3 frames");
+  options.frame_times.clear();
   const auto editor = SpacetimeArapEditor::Create(seq, constraints, options);
   ASSERT_TRUE(editor.ok());
   EXPECT_EQ(editor->Solve(Eigen::MatrixXd::Zero(1, 3)).status().code(), ErrorCode::kMismatch);

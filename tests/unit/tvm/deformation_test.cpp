@@ -193,6 +193,35 @@ TEST(AffinityTest, MatchesTheDefinitionAndFindsTheMostAffineNeighboursExactly) {
   }
 }
 
+TEST(AffinityTest, BadOptionsAndCoincidingCentresNameTheProblem) {
+  const auto bodies = MakeTwoBodies(3, 0.3);
+  const auto message = [&](const CentreTrajectories& centres, const AffinityOptions& options) {
+    const Status status = AffinityGraph::Build(centres, options).status();
+    EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+    return status.message();
+  };
+  AffinityOptions options;
+  options.neighbours = 0;
+  EXPECT_EQ(message(bodies.centres, options),
+            "the affinity neighbourhood must hold at least 1 centre, got 0");
+  options.neighbours = 4;
+  options.alpha = -1.0;
+  EXPECT_EQ(message(bodies.centres, options),
+            "alpha must be finite and >= 0 (0 = automatic), got -1.000000");
+  options.alpha = 0.0;
+  options.min_affinity = 1.0;
+  EXPECT_EQ(message(bodies.centres, options), "min_affinity must be in (0, 1), got 1.000000");
+  options.min_affinity = AffinityOptions{}.min_affinity;
+  CentreTrajectories coinciding = bodies.centres;
+  for (FramePositionsD& frame : coinciding.positions) {
+    const Eigen::RowVector3d first = frame.row(0);
+    frame.rowwise() = first;
+  }
+  EXPECT_EQ(message(coinciding, options),
+            "cannot choose alpha automatically: the median distance between neighbouring centres "
+            "in frame 0 is 0 (coinciding centres); give alpha explicitly");
+}
+
 TEST(AffinityTest, BodiesThatComeCloseButSeparateDoNotDragEachOther) {
   // Closest gap 0.12, less than the centre spacing 0.2: the bodies' centres are as close as
   // neighbours within a body at that frame, yet they are ever 2 apart, so a(A, B) = 0.
