@@ -220,7 +220,7 @@ std::vector<ValidVector> ValidVectors() {
     options.rank = 12;
     options.anchors = 40;
     options.anchor_step_ratio = 0.25;
-    options.weight_prediction_uniform = true;
+    options.uniform_weight_prediction = true;
     add("extreme_fine",
         "finest quantisers: 16 basis bits, 2^-24 residual step, 20 weight bits, "
         "full rank 12, 40 anchors, uniform weight prediction",

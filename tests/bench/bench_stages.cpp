@@ -38,8 +38,8 @@
 #include "dmc/encoder.h"
 #include "dmc/metrics.h"
 #include "dmc/operators.h"
-#include "fitting/segment_pca.h"
 #include "encoder/syntax_writer.h"
+#include "fitting/segment_pca.h"
 
 namespace dmc::bench {
 namespace {
@@ -129,7 +129,7 @@ const StageFixture& Fixture(const benchmark::State& state) {
   s.coefficients =
       (s.syntax.basis.transpose() * s.syntax.basis).ldlt().solve(projected.transpose()).transpose();
   OperatorOptions operator_options;
-  operator_options.ddl.mu = defaults.ddl_regularization;
+  operator_options.ddl.mu = defaults.ddl_mu;
   s.fitted = *FitDdlSymmetric(s.topology, SourceFromTrajectories(s.coefficients), operator_options);
   syntax::WriteDdlWeights(s.fitted.weights.values, s.topology, defaults.weight_bits,
                           format::WeightPrediction::kReferenceProportional, &s.syntax.edge_weights);
@@ -171,7 +171,7 @@ void BM_StagePca(benchmark::State& state) {
 void BM_StageDdlFit(benchmark::State& state) {
   const StageFixture& s = Fixture(state);
   OperatorOptions options;
-  options.ddl.mu = EncoderOptions().ddl_regularization;
+  options.ddl.mu = EncoderOptions().ddl_mu;
   PeakMemory memory;
   for (auto _ : state) {
     auto fitted = FitDdlSymmetric(s.topology, SourceFromTrajectories(s.coefficients), options);

@@ -43,7 +43,7 @@ struct EncoderOptions {
   int segment_frames = 0;          // maximum frames per segment; 0 = default
   int reference_bits = 10;  // geometric operators: reference frame step = diagonal · 2^-bits
   int weight_bits = 7;      // DDL weight step 2^-weight_bits
-  double ddl_regularization = 0.1;  // DDL Tikhonov pull toward Tutte (relative)
+  double ddl_mu = 0.1;      // DDL Tikhonov pull toward Tutte (relative)
   // DDL weights within this many units of their prediction are sent as the prediction (0.5 =
   // plain rounding; infinity = predicted weights only). 0 = per segment, whichever of the two
   // gives the smaller payload at the same step: better rate–STED on short segments (crane), but
@@ -61,7 +61,7 @@ struct EncoderOptions {
   bool rank_search = true;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
-  bool weight_prediction_uniform = false;
+  bool uniform_weight_prediction = false;
   double target_bpfv = 0.0;    // > 0: search parameters for this rate
   double target_sted = 0.0;    // > 0: search parameters for this distortion
   bool allow_reorder = false;  // let the output use the codec's own vertex order

@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
+#include "dmc/encoder_options.h"
 #include "dmc/io.h"
 #include "encoder/connectivity_encoder.h"
-#include "encoder/encoder_options.h"
 #include "encoder/rate_control.h"
 #include "encoder/segment_pipeline.h"
 #include "encoder/source_reader.h"

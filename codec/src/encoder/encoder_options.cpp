@@ -1,4 +1,4 @@
-#include "encoder/encoder_options.h"
+#include "dmc/encoder_options.h"
 
 #include <cmath>
 #include <string>
@@ -50,7 +50,7 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
   if (!(o.ddl_dead_zone == 0.0 || o.ddl_dead_zone >= 0.5)) {
     return bad("ddl_dead_zone", "must be 0 (automatic) or >= 0.5");
   }
-  if (!std::isfinite(o.ddl_regularization) || o.ddl_regularization < 0.0) {
+  if (!std::isfinite(o.ddl_mu) || o.ddl_mu < 0.0) {
     return bad("ddl_mu", "must be >= 0");
   }
   if (!std::isfinite(o.target_bpfv) || o.target_bpfv < 0.0) {

@@ -25,7 +25,7 @@ constexpr EncoderOptionSpec kOptions[] = {
     {"reference_bits", &O::reference_bits,
      "Geometric operators: reference frame step = diagonal * 2^-bits"},
     {"weight_bits", &O::weight_bits, "DDL weight step 2^-bits"},
-    {"ddl_mu", &O::ddl_regularization, "DDL Tikhonov pull toward Tutte (relative)"},
+    {"ddl_mu", &O::ddl_mu, "DDL Tikhonov pull toward Tutte (relative)"},
     {"ddl_dead_zone", &O::ddl_dead_zone,
      "DDL weights this close to their prediction (weight units) are sent as predicted: 0.5 = "
      "rounding, inf = predicted only, 0 = choose per segment"},
@@ -36,7 +36,7 @@ constexpr EncoderOptionSpec kOptions[] = {
      "ddl with its fallback and an automatic rank: also code each segment at the lower ranks of "
      "2 and 4 times the rank threshold and keep the lowest bits * STED^0.8; false = the "
      "threshold's rank alone"},
-    {"uniform_weight_prediction", &O::weight_prediction_uniform,
+    {"uniform_weight_prediction", &O::uniform_weight_prediction,
      "Predict DDL weights by the thesis's uniform share, not the degree reference"},
     {"target_bpfv", &O::target_bpfv,
      "> 0: search the residual step for this rate (bits per frame and vertex)"},

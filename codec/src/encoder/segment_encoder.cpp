@@ -69,7 +69,7 @@ SegmentEncoder::SegmentEncoder(const MeshTopology& topology, const Triangles& tr
       operator_id_(operator_id),
       diagonal_(diagonal),
       residual_step_(residual_step),
-      weight_prediction_(options.weight_prediction_uniform
+      weight_prediction_(options.uniform_weight_prediction
                              ? format::WeightPrediction::kUniform
                              : format::WeightPrediction::kReferenceProportional),
       rank_search_(options.rank == 0 && operator_id == OperatorId::kDdl && options.ddl_fallback &&
@@ -231,7 +231,7 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
   SegmentCoding ddl;
   {
     OperatorOptions operator_options;
-    operator_options.ddl.mu = options_.ddl_regularization;
+    operator_options.ddl.mu = options_.ddl_mu;
     // The coefficients are lent to the fit's source, not copied (the fit's factorisation is the
     // encoder's peak), and taken back after it.
     OperatorSource source = SourceFromTrajectories(std::move(coefficients));

@@ -87,7 +87,7 @@ TEST(ValidateOptions, MessagesNameTheOptionInTheSpellingAsked) {
       {"reference_bits", [](EncoderOptions& o) { o.reference_bits = 3; }},
       {"weight_bits", [](EncoderOptions& o) { o.weight_bits = 21; }},
       {"ddl_dead_zone", [](EncoderOptions& o) { o.ddl_dead_zone = 0.25; }},
-      {"ddl_mu", [](EncoderOptions& o) { o.ddl_regularization = -0.1; }},
+      {"ddl_mu", [](EncoderOptions& o) { o.ddl_mu = -0.1; }},
       {"target_bpfv", [](EncoderOptions& o) { o.target_bpfv = -1.0; }},
       {"target_sted", [](EncoderOptions& o) { o.target_sted = HUGE_VAL; }},
   };
@@ -106,7 +106,7 @@ TEST(ValidateOptions, MessagesNameTheOptionInTheSpellingAsked) {
   options.basis_bits = 40;
   EXPECT_EQ(ValidateOptions(options).message(), "basis_bits must be in [2, 16], got 40");
   options = {};
-  options.ddl_regularization = -1.0;
+  options.ddl_mu = -1.0;
   EXPECT_EQ(ValidateOptions(options, OptionSpelling::kCliFlag).message(), "--ddl-mu must be >= 0");
   options = {};
   options.target_bpfv = 2.0;
