@@ -52,6 +52,7 @@ def line_count(path):
 def compiler_arguments(entry):
     """The flags of a compile_commands.json entry, without the compiler, -c, -o and the source."""
     words = entry["arguments"] if "arguments" in entry else shlex.split(entry["command"])
+    source = os.path.normpath(os.path.join(entry["directory"], entry["file"]))
     flags = []
     skip_next = False
     for word in words[1:]:
@@ -59,7 +60,7 @@ def compiler_arguments(entry):
             skip_next = False
         elif word == "-o":
             skip_next = True
-        elif word == "-c" or os.path.abspath(os.path.join(entry["directory"], word)) == entry["file"]:
+        elif word == "-c" or os.path.normpath(os.path.join(entry["directory"], word)) == source:
             continue
         else:
             flags.append(word)

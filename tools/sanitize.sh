@@ -4,7 +4,7 @@
 # the whole ctest suite there. Any sanitizer report aborts the test that triggered it, so the run
 # fails.
 #
-# Usage: tools/sanitize.sh [extra ctest arguments]   (e.g. -LE slow, as in tools/test.sh)
+# Usage: tools/sanitize.sh [extra ctest arguments]
 # Environment:
 #   DMC_ASAN_BUILD_DIR   build directory (default build-asan next to the sources, as the preset)
 #   DMC_ASAN_CXX         compiler (default the preset's g++; clang++-14 works too)
@@ -12,6 +12,8 @@
 #   DMC_ASAN_TARGETS     space-separated build targets (default: all); with a subset, select the
 #                        matching tests too, e.g.
 #     DMC_ASAN_TARGETS="dmc_conformance_tests dmc_conform" tools/sanitize.sh -R '^conformance\.'
+#   DMC_ASAN_EXCLUDE_LABELS  ctest -LE regex (default no-sanitize); 'no-sanitize|slow' also skips
+#                        the tests labelled slow (see tools/test.sh), which CI runs
 #
 # Tests labelled "no-sanitize" are skipped: the ones too slow under ASan to be worth their time
 # there (they still run unsanitized in tools/test.sh). The fuzz targets build as their replay
@@ -48,6 +50,6 @@ export UBSAN_OPTIONS="halt_on_error=1:abort_on_error=1:print_stacktrace=1"
 # install.find_package_example is left out: it builds an unsanitized program against the
 # sanitized libraries, which cannot link.
 start=$SECONDS
-ctest --test-dir "$build" --output-on-failure -j "$jobs" -LE no-sanitize -E '^install\.' \
-  --timeout 1500 "$@"
+ctest --test-dir "$build" --output-on-failure -j "$jobs" \
+  -LE "${DMC_ASAN_EXCLUDE_LABELS:-no-sanitize}" -E '^install\.' --timeout 1500 "$@"
 echo "sanitize: tests took $((SECONDS - start)) s"

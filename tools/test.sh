@@ -6,10 +6,12 @@
 # Usage: tools/test.sh [extra ctest arguments]
 #        tools/test.sh --check-format     only the formatting check
 # Examples:
-#   tools/test.sh -LE slow               skip the tests labelled "slow" (the few that take a minute
-#                                        or more each; see tests/CMakeLists.txt); CI runs them all
+#   tools/test.sh -LE slow               skip the tests labelled "slow", the few that take many
+#                                        times the others' second or two (install, browser, two
+#                                        B-spline CLI tests; labels in tests/CMakeLists.txt).
+#                                        CI runs them all.
 #   tools/test.sh -R '^conformance\.'    only the conformance tests
-#   ctest --test-dir build -LE slow -j2  the same without rebuilding
+#   ctest --test-dir build -LE slow -j2  skip them without rebuilding
 # Environment:
 #   DMC_BUILD_DIR   build directory (default build next to the sources, as the preset)
 #   DMC_JOBS        build and test parallelism (default nproc)
@@ -45,8 +47,8 @@ check_format() {
   local output status=0 unformatted
   output="$(cd "$root" && "$clang_format" --dry-run -Werror "${files[@]}" 2>&1)" || status=$?
   if [ "$status" -ne 0 ]; then
-    unformatted="$(sed -n 's/^\([^:]*\):[0-9]*:[0-9]*: error: code should be clang-formatted.*/\1/p' \
-      <<<"$output" | sort -u)"
+    unformatted="$(grep -o '^[^:]*:[0-9]*:[0-9]*: error: code should be clang-formatted' \
+      <<<"$output" | cut -d: -f1 | sort -u)"
     if [ -n "$unformatted" ]; then
       echo "test: not clang-formatted (fix with clang-format-14 -i FILE):" >&2
       sed 's/^/  /' <<<"$unformatted" >&2
