@@ -11,6 +11,7 @@
 #include <variant>
 
 #include "dmc/encoder_options.h"
+#include "dmc/operator_traits.h"
 
 namespace dmc {
 namespace {
@@ -29,6 +30,20 @@ TEST(EncoderOptionTable, NamesAreDistinctSnakeCaseAndFound) {
   EXPECT_EQ(FindEncoderOption("ddl_regularization"), nullptr);
   EXPECT_EQ(SpellOption("ddl_mu", OptionSpelling::kName), "ddl_mu");
   EXPECT_EQ(SpellOption("ddl_mu", OptionSpelling::kCliFlag), "--ddl-mu");
+}
+
+// The operator option's help lists exactly the operators a stream can carry, in the traits
+// table's order: the help is written out, so this keeps it true when the table changes.
+TEST(EncoderOptionTable, OperatorHelpListsTheCodecOperators) {
+  const EncoderOptionSpec* spec = FindEncoderOption("operator");
+  ASSERT_NE(spec, nullptr);
+  std::string names;
+  for (const OperatorTraits& traits : kOperatorTraits) {
+    if (traits.codec()) names += (names.empty() ? "" : ", ") + std::string(traits.name);
+  }
+  const std::string help(spec->help);
+  ASSERT_NE(help.find(": "), std::string::npos) << help;
+  EXPECT_EQ(help.substr(help.find(": ") + 2), names);
 }
 
 // Setting each option through the table writes its own field and no other: every row holds a
