@@ -10,7 +10,7 @@
 // (the pruned octree O^M of the paper); their restrictions to the surface are the elements. The
 // kept functions sum to one on the surface, so constants are represented exactly.
 //
-// Matrices, with the repository's sign convention (operators.h: negative diagonal):
+// Matrices, with the repository's sign convention (laplace_operator.h: negative diagonal):
 //     L_ij = −∫_M ⟨∇_M b_i, ∇_M b_j⟩,   D_ij = ∫_M b_i b_j,
 // with ∇_M b = ∇b − ⟨∇b, N⟩N. L is symmetric negative semidefinite with L·1 = 0; D is symmetric
 // positive semidefinite and 1ᵀD1 = area(M). Integration is exact: every triangle is split at the
@@ -39,7 +39,7 @@
 #include <memory>
 #include <vector>
 
-#include "dmc/operators.h"
+#include "dmc/laplace_operator.h"
 #include "dmc/sequence.h"
 #include "dmc/status.h"
 #include "dmc/topology.h"

@@ -31,8 +31,9 @@
 //   ⋆(v_i^k v_i^{k+1}) the barycentric region of v_i in the mesh at mid-interval: Σ_f Area_f(½)/3.
 //
 // The operator. With w the dual-to-primal ratios |⋆e|/|e| of every (spatial or temporal) edge,
-// W is the VF×VF weighted graph Laplacian in dmc's sign convention (operators.h: off-diagonals
-// are +w, diagonal −Σw, rows sum to zero) and ⋆0 = diag(|⋆v|) the vertex dual volumes:
+// W is the VF×VF weighted graph Laplacian in dmc's sign convention (laplace_operator.h:
+// off-diagonals are +w, diagonal −Σw, rows sum to zero) and ⋆0 = diag(|⋆v|) the vertex dual
+// volumes:
 //   unsymmetrised  Δu = ⋆0⁻¹ · W                   (the paper's Definition 3.3: zero row sums)
 //   symmetrised    Δ  = ⋆0^{1/2} Δu ⋆0^{−1/2} = ⋆0^{−1/2} · W · ⋆0^{−1/2}     (Definition 3.6)
 // so Δ is symmetric, negative semidefinite, and Δ·⋆0^{1/2}·1 = 0. (The paper writes the diagonal
@@ -55,8 +56,10 @@
 #include <span>
 #include <vector>
 
-#include "dmc/operators.h"
+#include "dmc/laplace_operator.h"
+#include "dmc/operator_formulas.h"
 #include "dmc/sequence.h"
+#include "dmc/sparse_solvers.h"
 #include "dmc/status.h"
 #include "dmc/topology.h"
 
