@@ -13,6 +13,150 @@
 #include "dmc/spacetime.h"
 
 namespace dmc {
+namespace {
+
+Status ValidateArapOptions(const SpacetimeArapOptions& options, int f_count) {
+  if (!(options.alpha > 0.0) || !std::isfinite(options.alpha)) {
+    return InvalidArgumentError("spacetime-arap: alpha must be a finite value > 0");
+  }
+  if (options.window < 1) return InvalidArgumentError("spacetime-arap: window must be >= 1");
+  if (options.key_frame < 0 || options.key_frame >= f_count) {
+    return InvalidArgumentError("spacetime-arap: key frame " + std::to_string(options.key_frame) +
+                                " outside the sequence's " + std::to_string(f_count) + " frames");
+  }
+  if (!(options.tolerance > 0.0) || !(options.constraint_weight > 0.0) ||
+      options.max_iterations < 0) {
+    return InvalidArgumentError(
+        "spacetime-arap: tolerance and constraint weight must be > 0, max iterations >= 0");
+  }
+  return Status::Ok();
+}
+
+// The edited frames [first, last] and the key frame's index within them.
+struct ArapWindow {
+  int first = 0, last = 0, key_local = 0;
+  int frames() const { return last - first + 1; }
+};
+
+// [key − window, key + window] clipped to the sequence; an error when that leaves one frame.
+StatusOr<ArapWindow> WindowAround(const SpacetimeArapOptions& options, int f_count) {
+  ArapWindow window;
+  window.first = std::max(0, options.key_frame - options.window);
+  window.last = std::min(f_count - 1, options.key_frame + options.window);
+  window.key_local = options.key_frame - window.first;
+  if (window.frames() < 2) {
+    return InvalidArgumentError(
+        "spacetime-arap: the window holds one frame; the sequence needs "
+        "at least two");
+  }
+  return window;
+}
+
+enum VertexRole : uint8_t { kFree = 0, kHandle = 1, kFixed = 2 };
+
+// The role of every vertex; errors for no handle, an index outside [0, V) or a vertex that is
+// both handle and fixed.
+StatusOr<std::vector<uint8_t>> VertexRoles(const SpacetimeArapConstraints& constraints,
+                                           int v_count) {
+  if (constraints.handles.empty()) {
+    return InvalidArgumentError("spacetime-arap: no handle vertex to edit");
+  }
+  std::vector<uint8_t> role(v_count, kFree);
+  for (int32_t h : constraints.handles) {
+    if (h < 0 || h >= v_count) {
+      return InvalidArgumentError("spacetime-arap: handle " + std::to_string(h) + " outside [0, " +
+                                  std::to_string(v_count) + ")");
+    }
+    role[h] = kHandle;
+  }
+  for (int32_t f : constraints.fixed) {
+    if (f < 0 || f >= v_count) {
+      return InvalidArgumentError("spacetime-arap: fixed vertex " + std::to_string(f) +
+                                  " outside [0, " + std::to_string(v_count) + ")");
+    }
+    if (role[f] == kHandle) {
+      return InvalidArgumentError("spacetime-arap: vertex " + std::to_string(f) +
+                                  " is both a handle and fixed");
+    }
+    role[f] = kFixed;
+  }
+  return role;
+}
+
+// Times of every frame of the sequence: `frame_times` when given (one per frame), else from the
+// frame rate, else the frame indices.
+StatusOr<std::vector<double>> SequenceFrameTimes(const MeshSequence& sequence,
+                                                 const std::vector<double>& frame_times) {
+  const int f_count = sequence.frame_count();
+  std::vector<double> times = frame_times;
+  if (times.empty()) {
+    for (int f = 0; f < f_count; ++f) {
+      times.push_back(sequence.frame_rate > 0.0 ? f / sequence.frame_rate : f);
+    }
+  } else if (static_cast<int>(times.size()) != f_count) {
+    return InvalidArgumentError("spacetime-arap: frame_times holds " +
+                                std::to_string(times.size()) + " times for " +
+                                std::to_string(f_count) + " frames");
+  }
+  return times;
+}
+
+// (√α·t_k, x, y, z) of every vertex of every frame, frame after frame: an (F·V) × 4 matrix.
+Eigen::MatrixXd SpacetimePositions(const std::vector<FramePositionsD>& frames,
+                                   const std::vector<double>& times, double root_alpha) {
+  const Eigen::Index v_count = frames.front().rows();
+  Eigen::MatrixXd positions(v_count * static_cast<Eigen::Index>(frames.size()), 4);
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const Eigen::Index row = static_cast<Eigen::Index>(k) * v_count;
+    positions.block(row, 0, v_count, 1).setConstant(root_alpha * times[k]);
+    positions.block(row, 1, v_count, 3) = frames[k];
+  }
+  return positions;
+}
+
+// Whether the window's first and last frames are pinned whole (temporal boundary anchors).
+struct ConstrainedFrames {
+  bool first = false, last = false;
+};
+
+// 1 for every row (frame k, vertex v at k·V + v) held by a soft constraint: the handles in the
+// key frame, the fixed vertices in every frame, the pinned boundary frames and, when neither
+// boundary is pinned, every spatial component without a handle or fixed vertex (it would float).
+std::vector<uint8_t> ConstrainedRows(const MeshTopology& topology,
+                                     const std::vector<uint8_t>& roles,
+                                     const SpacetimeArapConstraints& constraints,
+                                     const ArapWindow& window, ConstrainedFrames pinned,
+                                     int v_count) {
+  const int window_frames = window.frames();
+  std::vector<uint8_t> constrained(static_cast<size_t>(v_count) * window_frames, 0);
+  const auto pin_frame = [&](int k) {
+    std::fill(constrained.begin() + static_cast<Eigen::Index>(k) * v_count,
+              constrained.begin() + static_cast<Eigen::Index>(k + 1) * v_count, 1);
+  };
+  for (int32_t h : constraints.handles) {
+    constrained[static_cast<Eigen::Index>(window.key_local) * v_count + h] = 1;
+  }
+  for (int k = 0; k < window_frames; ++k) {
+    for (int32_t f : constraints.fixed) constrained[static_cast<Eigen::Index>(k) * v_count + f] = 1;
+  }
+  if (pinned.first) pin_frame(0);
+  if (pinned.last) pin_frame(window_frames - 1);
+  if (!pinned.first && !pinned.last) {
+    std::vector<uint8_t> held(topology.component_count, 0);
+    for (int v = 0; v < v_count; ++v) {
+      if (roles[v] != kFree) held[topology.component_of_vertex[v]] = 1;
+    }
+    for (int v = 0; v < v_count; ++v) {
+      if (held[topology.component_of_vertex[v]]) continue;
+      for (int k = 0; k < window_frames; ++k) {
+        constrained[static_cast<Eigen::Index>(k) * v_count + v] = 1;
+      }
+    }
+  }
+  return constrained;
+}
+
+}  // namespace
 
 struct SpacetimeArapEditor::Impl {
   MeshSequence input;
@@ -31,55 +175,107 @@ struct SpacetimeArapEditor::Impl {
 
   Eigen::Index rows() const { return original.rows(); }
 
+  // The window's Laplacian (frame times of the whole sequence given), its stiffness and the
+  // spacetime positions of the window's vertices.
+  Status BuildWindowOperator(const MeshSequence& sequence, const MeshTopology& topology,
+                             const std::vector<double>& times) {
+    SpacetimeOptions st_options;
+    st_options.alpha = options.alpha;
+    st_options.spatial_dual = options.spatial_dual;
+    st_options.frame_times.assign(times.begin() + first, times.begin() + last + 1);
+    std::vector<FramePositionsD> frames;
+    for (int f = first; f <= last; ++f) frames.push_back(sequence.frame_d(f));
+    DMC_ASSIGN_OR_RETURN(
+        laplacian, BuildSpacetimeLaplacian(topology, sequence.triangles(), frames, st_options));
+    stiffness = -laplacian.stiffness;
+    const double root_alpha = std::sqrt(options.alpha);
+    original = SpacetimePositions(frames, st_options.frame_times, root_alpha);
+    key_time_coordinate = root_alpha * st_options.frame_times[key_local];
+    return Status::Ok();
+  }
+
+  // Rows without dual volume join `constrained` (nothing else holds them); λ is then set from
+  // the mean positive diagonal, and K + λ·(constrained rows' diagonal) is factorised.
+  Status FactorConstrainedSystem(std::vector<uint8_t> constrained_rows) {
+    const Eigen::VectorXd diagonal = stiffness.diagonal();
+    double diagonal_sum = 0.0;
+    int diagonal_count = 0;
+    for (Eigen::Index r = 0; r < rows(); ++r) {
+      if (diagonal[r] > 0.0) {
+        diagonal_sum += diagonal[r];
+        ++diagonal_count;
+      } else {
+        constrained_rows[r] = 1;
+      }
+    }
+    lambda = options.constraint_weight * (diagonal_count > 0 ? diagonal_sum / diagonal_count : 1.0);
+    SparseMatrixD system = stiffness;
+    for (Eigen::Index r = 0; r < rows(); ++r) {
+      if (!constrained_rows[r]) continue;
+      constrained.push_back(static_cast<int>(r));
+      system.coeffRef(r, r) += lambda;  // the diagonal entry exists: no reallocation
+    }
+    if (options.solver == SpacetimeSolverKind::kBlockLdlt) {
+      DMC_ASSIGN_OR_RETURN(BlockTridiagonalSolver factor,
+                           BlockTridiagonalSolver::Factor(system, vertex_count));
+      block.emplace(std::move(factor));
+    } else {
+      DMC_ASSIGN_OR_RETURN(SparseSpdSolver factor, SparseSpdSolver::Factor(system));
+      cholesky.emplace(std::move(factor));
+    }
+    return Status::Ok();
+  }
+
   StatusOr<Eigen::MatrixXd> SolveSystem(const Eigen::MatrixXd& rhs) const {
     return cholesky ? cholesky->Solve(rhs) : block->Solve(rhs);
+  }
+
+  // Calls row(i) for every row i, rows spread over tasks; each call writes only its own outputs.
+  template <typename RowFunction>
+  void ForEachRow(const RowFunction& row) const {
+    tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(rows()), 256),
+                      [&](const tbb::blocked_range<int>& range) {
+                        for (int i = range.begin(); i < range.end(); ++i) row(i);
+                      });
   }
 
   // Local step: the best rotation of every cell for the current positions.
   std::vector<Eigen::Matrix4d> FitRotations(const Eigen::MatrixXd& current) const {
     std::vector<Eigen::Matrix4d> rotations(static_cast<size_t>(rows()));
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, static_cast<int>(rows()), 256),
-        [&](const tbb::blocked_range<int>& range) {
-          for (int i = range.begin(); i < range.end(); ++i) {
-            Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
-            for (SparseMatrixD::InnerIterator it(stiffness, i); it; ++it) {
-              if (it.row() == i) continue;
-              const double w = -it.value();
-              const Eigen::Vector4d rest = (original.row(i) - original.row(it.row())).transpose();
-              const Eigen::Vector4d now = (current.row(i) - current.row(it.row())).transpose();
-              covariance.noalias() += w * rest * now.transpose();
-            }
-            const Eigen::JacobiSVD<Eigen::Matrix4d> svd(covariance,
-                                                        Eigen::ComputeFullU | Eigen::ComputeFullV);
-            Eigen::Matrix4d u = svd.matrixU();
-            Eigen::Matrix4d rotation = svd.matrixV() * u.transpose();
-            if (rotation.determinant() < 0.0) {
-              u.col(3) = -u.col(3);  // flip the axis of the smallest singular value
-              rotation = svd.matrixV() * u.transpose();
-            }
-            rotations[i] = rotation;
-          }
-        });
+    ForEachRow([&](int i) {
+      Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
+      for (SparseMatrixD::InnerIterator it(stiffness, i); it; ++it) {
+        if (it.row() == i) continue;
+        const double w = -it.value();
+        const Eigen::Vector4d rest = (original.row(i) - original.row(it.row())).transpose();
+        const Eigen::Vector4d now = (current.row(i) - current.row(it.row())).transpose();
+        covariance.noalias() += w * rest * now.transpose();
+      }
+      const Eigen::JacobiSVD<Eigen::Matrix4d> svd(covariance,
+                                                  Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Eigen::Matrix4d u = svd.matrixU();
+      Eigen::Matrix4d rotation = svd.matrixV() * u.transpose();
+      if (rotation.determinant() < 0.0) {
+        u.col(3) = -u.col(3);  // flip the axis of the smallest singular value
+        rotation = svd.matrixV() * u.transpose();
+      }
+      rotations[i] = rotation;
+    });
     return rotations;
   }
 
   // b_i = Σ_j w_ij/2·(R_i + R_j)·(p_i − p_j).
   Eigen::MatrixXd RotatedRightHandSide(const std::vector<Eigen::Matrix4d>& rotations) const {
     Eigen::MatrixXd rhs(rows(), 4);
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, static_cast<int>(rows()), 256),
-        [&](const tbb::blocked_range<int>& range) {
-          for (int i = range.begin(); i < range.end(); ++i) {
-            Eigen::Vector4d sum = Eigen::Vector4d::Zero();
-            for (SparseMatrixD::InnerIterator it(stiffness, i); it; ++it) {
-              if (it.row() == i) continue;
-              const Eigen::Vector4d rest = (original.row(i) - original.row(it.row())).transpose();
-              sum += (-0.5 * it.value()) * (rotations[i] + rotations[it.row()]) * rest;
-            }
-            rhs.row(i) = sum.transpose();
-          }
-        });
+    ForEachRow([&](int i) {
+      Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+      for (SparseMatrixD::InnerIterator it(stiffness, i); it; ++it) {
+        if (it.row() == i) continue;
+        const Eigen::Vector4d rest = (original.row(i) - original.row(it.row())).transpose();
+        sum += (-0.5 * it.value()) * (rotations[i] + rotations[it.row()]) * rest;
+      }
+      rhs.row(i) = sum.transpose();
+    });
     return rhs;
   }
 
@@ -121,145 +317,29 @@ StatusOr<SpacetimeArapEditor> SpacetimeArapEditor::Create(
     const SpacetimeArapOptions& options) {
   const int v_count = sequence.vertex_count();
   const int f_count = sequence.frame_count();
-  if (!(options.alpha > 0.0) || !std::isfinite(options.alpha)) {
-    return InvalidArgumentError("spacetime-arap: alpha must be a finite value > 0");
-  }
-  if (options.window < 1) return InvalidArgumentError("spacetime-arap: window must be >= 1");
-  if (options.key_frame < 0 || options.key_frame >= f_count) {
-    return InvalidArgumentError("spacetime-arap: key frame " + std::to_string(options.key_frame) +
-                                " outside the sequence's " + std::to_string(f_count) + " frames");
-  }
-  if (!(options.tolerance > 0.0) || !(options.constraint_weight > 0.0) ||
-      options.max_iterations < 0) {
-    return InvalidArgumentError(
-        "spacetime-arap: tolerance and constraint weight must be > 0, max iterations >= 0");
-  }
+  DMC_RETURN_IF_ERROR(ValidateArapOptions(options, f_count));
+  DMC_ASSIGN_OR_RETURN(const ArapWindow window, WindowAround(options, f_count));
+  DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> roles, VertexRoles(constraints, v_count));
+  DMC_ASSIGN_OR_RETURN(const std::vector<double> times,
+                       SequenceFrameTimes(sequence, options.frame_times));
+
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   impl->vertex_count = v_count;
-  impl->first = std::max(0, options.key_frame - options.window);
-  impl->last = std::min(f_count - 1, options.key_frame + options.window);
-  impl->key_local = options.key_frame - impl->first;
-  const int window_frames = impl->last - impl->first + 1;
-  if (window_frames < 2) {
-    return InvalidArgumentError(
-        "spacetime-arap: the window holds one frame; the sequence needs "
-        "at least two");
-  }
-  if (constraints.handles.empty()) {
-    return InvalidArgumentError("spacetime-arap: no handle vertex to edit");
-  }
-  std::vector<uint8_t> role(v_count, 0);  // 1 handle, 2 fixed
-  for (int32_t h : constraints.handles) {
-    if (h < 0 || h >= v_count) {
-      return InvalidArgumentError("spacetime-arap: handle " + std::to_string(h) + " outside [0, " +
-                                  std::to_string(v_count) + ")");
-    }
-    role[h] = 1;
-  }
-  for (int32_t f : constraints.fixed) {
-    if (f < 0 || f >= v_count) {
-      return InvalidArgumentError("spacetime-arap: fixed vertex " + std::to_string(f) +
-                                  " outside [0, " + std::to_string(v_count) + ")");
-    }
-    if (role[f] == 1) {
-      return InvalidArgumentError("spacetime-arap: vertex " + std::to_string(f) +
-                                  " is both a handle and fixed");
-    }
-    role[f] = 2;
-  }
+  impl->first = window.first;
+  impl->last = window.last;
+  impl->key_local = window.key_local;
   impl->handles = constraints.handles;
-
-  // Frame times of the whole sequence, then the window's.
-  std::vector<double> times = options.frame_times;
-  if (times.empty()) {
-    for (int f = 0; f < f_count; ++f) {
-      times.push_back(sequence.frame_rate > 0.0 ? f / sequence.frame_rate : f);
-    }
-  } else if (static_cast<int>(times.size()) != f_count) {
-    return InvalidArgumentError("spacetime-arap: frame_times holds " +
-                                std::to_string(times.size()) + " times for " +
-                                std::to_string(f_count) + " frames");
-  }
-  SpacetimeOptions st_options;
-  st_options.alpha = options.alpha;
-  st_options.spatial_dual = options.spatial_dual;
-  st_options.frame_times.assign(times.begin() + impl->first, times.begin() + impl->last + 1);
-  std::vector<FramePositionsD> frames;
-  for (int f = impl->first; f <= impl->last; ++f) frames.push_back(sequence.frame_d(f));
   const MeshTopology topology = BuildTopology(sequence.triangles(), v_count);
-  DMC_ASSIGN_OR_RETURN(impl->laplacian,
-                       BuildSpacetimeLaplacian(topology, sequence.triangles(), frames, st_options));
-  impl->stiffness = -impl->laplacian.stiffness;
-
-  const double root_alpha = std::sqrt(options.alpha);
-  const Eigen::Index n = static_cast<Eigen::Index>(v_count) * window_frames;
-  impl->original.resize(n, 4);
-  for (int k = 0; k < window_frames; ++k) {
-    impl->original.block(static_cast<Eigen::Index>(k) * v_count, 0, v_count, 1)
-        .setConstant(root_alpha * st_options.frame_times[k]);
-    impl->original.block(static_cast<Eigen::Index>(k) * v_count, 1, v_count, 3) = frames[k];
-  }
-  impl->key_time_coordinate = root_alpha * st_options.frame_times[impl->key_local];
+  DMC_RETURN_IF_ERROR(impl->BuildWindowOperator(sequence, topology, times));
   impl->bbox_diagonal = ComputeBoundingBox(sequence).diagonal();
 
-  // Soft constraints.
-  std::vector<uint8_t> constrained(static_cast<size_t>(n), 0);
-  const auto pin_frame = [&](int k) {
-    std::fill(constrained.begin() + static_cast<Eigen::Index>(k) * v_count,
-              constrained.begin() + static_cast<Eigen::Index>(k + 1) * v_count, 1);
-  };
-  for (int32_t h : constraints.handles) {
-    constrained[static_cast<Eigen::Index>(impl->key_local) * v_count + h] = 1;
-  }
-  for (int k = 0; k < window_frames; ++k) {
-    for (int32_t f : constraints.fixed) constrained[static_cast<Eigen::Index>(k) * v_count + f] = 1;
-  }
-  const bool anchor_start = options.anchor_temporal_boundary && impl->first > 0;
-  const bool anchor_end = options.anchor_temporal_boundary && impl->last < f_count - 1;
-  if (anchor_start) pin_frame(0);
-  if (anchor_end) pin_frame(window_frames - 1);
-  if (!anchor_start && !anchor_end) {
-    // A component with no handle and no fixed vertex would float: keep it where it is.
-    std::vector<uint8_t> held(topology.component_count, 0);
-    for (int v = 0; v < v_count; ++v) {
-      if (role[v] != 0) held[topology.component_of_vertex[v]] = 1;
-    }
-    for (int v = 0; v < v_count; ++v) {
-      if (held[topology.component_of_vertex[v]]) continue;
-      for (int k = 0; k < window_frames; ++k) {
-        constrained[static_cast<Eigen::Index>(k) * v_count + v] = 1;
-      }
-    }
-  }
-  const Eigen::VectorXd diagonal = impl->stiffness.diagonal();
-  double diagonal_sum = 0.0;
-  int diagonal_count = 0;
-  for (Eigen::Index r = 0; r < n; ++r) {
-    if (diagonal[r] > 0.0) {
-      diagonal_sum += diagonal[r];
-      ++diagonal_count;
-    } else {
-      constrained[r] = 1;  // no dual volume: nothing holds the vertex but its constraint
-    }
-  }
-  impl->lambda =
-      options.constraint_weight * (diagonal_count > 0 ? diagonal_sum / diagonal_count : 1.0);
-  SparseMatrixD system = impl->stiffness;
-  for (Eigen::Index r = 0; r < n; ++r) {
-    if (!constrained[r]) continue;
-    impl->constrained.push_back(static_cast<int>(r));
-    system.coeffRef(r, r) += impl->lambda;  // the diagonal entry exists: no reallocation
-  }
-
-  if (options.solver == SpacetimeSolverKind::kBlockLdlt) {
-    DMC_ASSIGN_OR_RETURN(BlockTridiagonalSolver block,
-                         BlockTridiagonalSolver::Factor(system, v_count));
-    impl->block.emplace(std::move(block));
-  } else {
-    DMC_ASSIGN_OR_RETURN(SparseSpdSolver cholesky, SparseSpdSolver::Factor(system));
-    impl->cholesky.emplace(std::move(cholesky));
-  }
+  const ConstrainedFrames pinned{
+      .first = options.anchor_temporal_boundary && window.first > 0,
+      .last = options.anchor_temporal_boundary && window.last < f_count - 1};
+  std::vector<uint8_t> constrained =
+      ConstrainedRows(topology, roles, constraints, window, pinned, v_count);
+  DMC_RETURN_IF_ERROR(impl->FactorConstrainedSystem(std::move(constrained)));
   impl->input = sequence;
   return SpacetimeArapEditor(std::move(impl));
 }
