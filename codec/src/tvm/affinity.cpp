@@ -15,6 +15,38 @@
 #include "tvm/kd_tree.h"
 
 namespace dmc::tvm {
+namespace {
+
+Status ValidateAffinityOptions(const AffinityOptions& options) {
+  if (options.neighbours < 1) {
+    return InvalidArgumentError("the affinity neighbourhood must hold at least 1 centre, got " +
+                                std::to_string(options.neighbours));
+  }
+  if (!(options.alpha >= 0.0) || !std::isfinite(options.alpha)) {
+    return InvalidArgumentError("alpha must be finite and >= 0 (0 = automatic), got " +
+                                std::to_string(options.alpha));
+  }
+  if (!(options.min_affinity > 0.0 && options.min_affinity < 1.0)) {
+    return InvalidArgumentError("min_affinity must be in (0, 1), got " +
+                                std::to_string(options.min_affinity));
+  }
+  return Status::Ok();
+}
+
+// The alpha asked for, or for 0 the automatic 1 / spacing (any value for a single centre, which
+// has affinity 1 with itself whatever alpha is).
+StatusOr<double> ChooseAlpha(double requested, int centre_count, double spacing) {
+  if (requested != 0.0) return requested;
+  if (centre_count == 1) return 1.0;
+  if (spacing <= 0.0) {
+    return InvalidArgumentError(
+        "cannot choose alpha automatically: the median distance between neighbouring centres "
+        "in frame 0 is 0 (coinciding centres); give alpha explicitly");
+  }
+  return 1.0 / spacing;
+}
+
+}  // namespace
 
 struct AffinityGraph::Impl {
   CentreTrajectories centres;
@@ -42,75 +74,36 @@ struct AffinityGraph::Impl {
     const double affinity = std::exp(-x * x);
     return affinity < min_affinity ? 0.0 : affinity;
   }
-};
 
-StatusOr<AffinityGraph> AffinityGraph::Build(const CentreTrajectories& centres,
-                                             const AffinityOptions& options) {
-  DMC_RETURN_IF_ERROR(ValidateCentres(centres));
-  if (options.neighbours < 1) {
-    return InvalidArgumentError("the affinity neighbourhood must hold at least 1 centre, got " +
-                                std::to_string(options.neighbours));
-  }
-  if (!(options.alpha >= 0.0) || !std::isfinite(options.alpha)) {
-    return InvalidArgumentError("alpha must be finite and >= 0 (0 = automatic), got " +
-                                std::to_string(options.alpha));
-  }
-  if (!(options.min_affinity > 0.0 && options.min_affinity < 1.0)) {
-    return InvalidArgumentError("min_affinity must be in (0, 1), got " +
-                                std::to_string(options.min_affinity));
-  }
-  auto impl = std::make_shared<Impl>();
-  impl->centres = centres;
-  const int n = centres.centre_count();
-  impl->trees.resize(static_cast<size_t>(centres.frame_count()));
-  tbb::parallel_for(0, centres.frame_count(), [&](int f) {
-    impl->trees[static_cast<size_t>(f)] =
-        tvm_internal::KdTree(centres.positions[static_cast<size_t>(f)]);
-  });
-
-  // Median nearest-neighbour spacing in frame 0: the natural length scale of the centres.
-  const FramePositionsD& first = centres.positions.front();
-  if (n > 1) {
+  // Median nearest-neighbour spacing in frame 0, the natural length scale of the centres (0 for
+  // a single centre). Needs the frame trees.
+  double MedianSpacing() const {
+    const int n = centres.centre_count();
+    if (n <= 1) return 0.0;
+    const FramePositionsD& first = centres.positions.front();
     std::vector<double> nearest(static_cast<size_t>(n));
     tbb::parallel_for(0, n, [&](int i) {
-      const auto two = impl->trees.front().KNearest(first.row(i).transpose(), 2);
+      const auto two = trees.front().KNearest(first.row(i).transpose(), 2);
       nearest[static_cast<size_t>(i)] = std::sqrt(two.back().first);
     });
     std::nth_element(nearest.begin(), nearest.begin() + n / 2, nearest.end());
-    impl->spacing = nearest[static_cast<size_t>(n / 2)];
+    return nearest[static_cast<size_t>(n / 2)];
   }
-  impl->alpha = options.alpha;
-  if (impl->alpha == 0.0) {
-    if (n == 1) {
-      impl->alpha = 1.0;  // a single centre has affinity 1 with itself whatever alpha is
-    } else if (impl->spacing <= 0.0) {
-      return InvalidArgumentError(
-          "cannot choose alpha automatically: the median distance between neighbouring centres "
-          "in frame 0 is 0 (coinciding centres); give alpha explicitly");
-    } else {
-      impl->alpha = 1.0 / impl->spacing;
-    }
-  }
-  impl->min_affinity = options.min_affinity;
-  impl->cutoff_distance = std::sqrt(-std::log(options.min_affinity)) / impl->alpha;
 
-  // The K most affine centres of each centre, exactly (see the file comment).
-  const int k = std::min(options.neighbours, n);
-  impl->neighbour_count = k;
-  impl->neighbours.resize(static_cast<size_t>(n) * k);
-  impl->affinities.resize(static_cast<size_t>(n) * k);
-  tbb::parallel_for(0, n, [&](int i) {
-    const Eigen::Vector3d query = first.row(i).transpose();
-    std::vector<std::pair<double, int32_t>> best;  // (max-distance, index), ascending
-    for (const auto& [d2, j] : impl->trees.front().KNearest(query, k)) {
-      best.emplace_back(impl->MaxDistance(i, j), j);
+  // The k most affine centres of centre i as (max-distance, index), ascending, exactly (see the
+  // file comment).
+  std::vector<std::pair<double, int32_t>> MostAffine(int i, int k) const {
+    const Eigen::Vector3d query = centres.positions.front().row(i).transpose();
+    std::vector<std::pair<double, int32_t>> best;
+    for (const auto& [d2, j] : trees.front().KNearest(query, k)) {
+      best.emplace_back(MaxDistance(i, j), j);
     }
     std::sort(best.begin(), best.end());
     const double radius = best.back().first;
     std::vector<int32_t> candidates;
-    impl->trees.front().WithinRadius(query, radius * radius, candidates);
+    trees.front().WithinRadius(query, radius * radius, candidates);
     for (const int32_t j : candidates) {
-      const std::pair<double, int32_t> entry{impl->MaxDistance(i, j, best.back().first), j};
+      const std::pair<double, int32_t> entry{MaxDistance(i, j, best.back().first), j};
       if (!(entry < best.back())) continue;
       if (std::find_if(best.begin(), best.end(), [j](const auto& e) { return e.second == j; }) !=
           best.end()) {
@@ -119,12 +112,43 @@ StatusOr<AffinityGraph> AffinityGraph::Build(const CentreTrajectories& centres,
       best.insert(std::upper_bound(best.begin(), best.end(), entry), entry);
       best.pop_back();
     }
-    for (int slot = 0; slot < k; ++slot) {
-      const size_t at = static_cast<size_t>(i) * k + slot;
-      impl->neighbours[at] = best[static_cast<size_t>(slot)].second;
-      impl->affinities[at] = impl->AffinityOfDistance(best[static_cast<size_t>(slot)].first);
-    }
+    return best;
+  }
+
+  // Fills the n × k neighbour and affinity tables. Needs alpha and min_affinity.
+  void FindMostAffine(int k) {
+    const int n = centres.centre_count();
+    neighbour_count = k;
+    neighbours.resize(static_cast<size_t>(n) * k);
+    affinities.resize(static_cast<size_t>(n) * k);
+    tbb::parallel_for(0, n, [&](int i) {
+      const std::vector<std::pair<double, int32_t>> best = MostAffine(i, k);
+      for (int slot = 0; slot < k; ++slot) {
+        const size_t at = static_cast<size_t>(i) * k + slot;
+        neighbours[at] = best[static_cast<size_t>(slot)].second;
+        affinities[at] = AffinityOfDistance(best[static_cast<size_t>(slot)].first);
+      }
+    });
+  }
+};
+
+StatusOr<AffinityGraph> AffinityGraph::Build(const CentreTrajectories& centres,
+                                             const AffinityOptions& options) {
+  DMC_RETURN_IF_ERROR(ValidateCentres(centres));
+  DMC_RETURN_IF_ERROR(ValidateAffinityOptions(options));
+  auto impl = std::make_shared<Impl>();
+  impl->centres = centres;
+  impl->trees.resize(static_cast<size_t>(centres.frame_count()));
+  tbb::parallel_for(0, centres.frame_count(), [&](int f) {
+    impl->trees[static_cast<size_t>(f)] =
+        tvm_internal::KdTree(centres.positions[static_cast<size_t>(f)]);
   });
+  impl->spacing = impl->MedianSpacing();
+  DMC_ASSIGN_OR_RETURN(impl->alpha,
+                       ChooseAlpha(options.alpha, centres.centre_count(), impl->spacing));
+  impl->min_affinity = options.min_affinity;
+  impl->cutoff_distance = std::sqrt(-std::log(options.min_affinity)) / impl->alpha;
+  impl->FindMostAffine(std::min(options.neighbours, centres.centre_count()));
   AffinityGraph graph;
   graph.impl_ = std::move(impl);
   return graph;

@@ -121,6 +121,158 @@ uint64_t EdgeKey(int32_t a, int32_t b) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
 }
 
+using Triangle = std::array<int32_t, 3>;
+
+// A frame while its edges are split: rest positions, the blended transform of every vertex, and
+// the triangles; vertices are only appended.
+struct RefiningMesh {
+  std::vector<Eigen::Vector3d> rest;
+  std::vector<DualQuaternion> transforms;
+  std::vector<Triangle> triangles;
+};
+
+// The frame's vertices with the transforms blended from their precomputed weights.
+RefiningMesh StartRefining(const TvmFrame& frame_mesh, std::span<const DualQuaternion> transforms,
+                           const SurfaceWeights& weights) {
+  const int k = weights.k;
+  const int vertices = frame_mesh.vertex_count();
+  RefiningMesh mesh;
+  mesh.transforms.resize(static_cast<size_t>(vertices));
+  tbb::parallel_for(tbb::blocked_range<int>(0, vertices, 512), [&](const auto& range) {
+    for (int v = range.begin(); v != range.end(); ++v) {
+      const size_t at = static_cast<size_t>(v) * k;
+      mesh.transforms[static_cast<size_t>(v)] =
+          VertexTransform(transforms, weights.centres.data() + at, weights.weights.data() + at, k);
+    }
+  });
+  mesh.rest.resize(static_cast<size_t>(vertices));
+  for (int v = 0; v < vertices; ++v)
+    mesh.rest[static_cast<size_t>(v)] = frame_mesh.positions.row(v);
+  mesh.triangles.resize(static_cast<size_t>(frame_mesh.triangle_count()));
+  for (int t = 0; t < frame_mesh.triangle_count(); ++t) {
+    mesh.triangles[static_cast<size_t>(t)] = {
+        frame_mesh.triangles(t, 0), frame_mesh.triangles(t, 1), frame_mesh.triangles(t, 2)};
+  }
+  return mesh;
+}
+
+// Keys (EdgeKey) of the edges whose ends' relative rotation exceeds zeta, i.e. where
+// cos(angle(T_a T_b*) / 2) < split_cosine = cos(zeta / 2); sorted, each once.
+std::vector<uint64_t> EdgesToSplit(const RefiningMesh& mesh, double split_cosine) {
+  std::vector<uint64_t> split_edges;
+  for (const auto& triangle : mesh.triangles) {
+    for (int corner = 0; corner < 3; ++corner) {
+      const int32_t a = triangle[corner], b = triangle[(corner + 1) % 3];
+      const DualQuaternion delta = mesh.transforms[static_cast<size_t>(a)] *
+                                   mesh.transforms[static_cast<size_t>(b)].Conjugate();
+      if (std::abs(delta.real().w()) < split_cosine * delta.real().norm()) {
+        split_edges.push_back(EdgeKey(a, b));
+      }
+    }
+  }
+  std::sort(split_edges.begin(), split_edges.end());
+  split_edges.erase(std::unique(split_edges.begin(), split_edges.end()), split_edges.end());
+  return split_edges;
+}
+
+// Appends one midpoint per split edge (in key order), weighted and transformed like any vertex of
+// the frame.
+void AddMidpoints(const AffinityGraph& graph, int frame, std::span<const DualQuaternion> transforms,
+                  const SurfaceOptions& options, const std::vector<uint64_t>& split_edges,
+                  RefiningMesh& mesh) {
+  const size_t first_new = mesh.rest.size();
+  mesh.rest.resize(mesh.rest.size() + split_edges.size());
+  mesh.transforms.resize(mesh.rest.size());
+  tbb::parallel_for(size_t{0}, split_edges.size(), [&](size_t e) {
+    const auto a = static_cast<size_t>(split_edges[e] >> 32);
+    const auto b = static_cast<size_t>(split_edges[e] & 0xffffffffu);
+    const Eigen::Vector3d midpoint = 0.5 * (mesh.rest[a] + mesh.rest[b]);
+    std::vector<int32_t> centres;
+    std::vector<double> vertex_weights;
+    ComputeVertexWeights(graph, frame, midpoint, options, centres, vertex_weights);
+    mesh.rest[first_new + e] = midpoint;
+    mesh.transforms[first_new + e] = VertexTransform(
+        transforms, centres.data(), vertex_weights.data(), static_cast<int>(centres.size()));
+  });
+}
+
+// Red-green refinement of one triangle keeping its orientation: 1, 2 or 3 split edges give 2, 3
+// or 4 triangles (Fig. 4 of the paper for one edge). mid[c] is the midpoint of edge
+// (c, c+1), or -1 when that edge is not split.
+void RefineTriangle(const Triangle& triangle, const Triangle& mid, std::vector<Triangle>& refined) {
+  int split = 0;
+  for (int corner = 0; corner < 3; ++corner) split += mid[corner] >= 0 ? 1 : 0;
+  if (split == 0) {
+    refined.push_back(triangle);
+    return;
+  }
+  if (split == 3) {
+    const auto [a, b, c] = triangle;
+    refined.push_back({a, mid[0], mid[2]});
+    refined.push_back({mid[0], b, mid[1]});
+    refined.push_back({mid[2], mid[1], c});
+    refined.push_back({mid[0], mid[1], mid[2]});
+    return;
+  }
+  // Rotate the corners so that edge 0 (a-b) is split and, for two splits, edge 1 (b-c) too.
+  int shift = 0;
+  for (int r = 0; r < 3; ++r) {
+    const bool first = mid[r] >= 0, second = mid[(r + 1) % 3] >= 0;
+    if (split == 1 ? first : (first && second)) {
+      shift = r;
+      break;
+    }
+  }
+  const int32_t a = triangle[shift], b = triangle[(shift + 1) % 3], c = triangle[(shift + 2) % 3];
+  const int32_t m_ab = mid[shift], m_bc = mid[(shift + 1) % 3];
+  if (split == 1) {
+    refined.push_back({a, m_ab, c});
+    refined.push_back({m_ab, b, c});
+  } else {
+    refined.push_back({m_ab, b, m_bc});
+    refined.push_back({a, m_ab, m_bc});
+    refined.push_back({a, m_bc, c});
+  }
+}
+
+// Every triangle refined at the split edges, whose midpoints are vertices first_new, first_new+1,
+// ... in the order of `split_edges`.
+std::vector<Triangle> RefineTriangles(const std::vector<Triangle>& triangles,
+                                      const std::vector<uint64_t>& split_edges, int32_t first_new) {
+  const auto midpoint_of = [&](int32_t a, int32_t b) -> int32_t {
+    const auto it = std::lower_bound(split_edges.begin(), split_edges.end(), EdgeKey(a, b));
+    if (it == split_edges.end() || *it != EdgeKey(a, b)) return -1;
+    return first_new + static_cast<int32_t>(it - split_edges.begin());
+  };
+  std::vector<Triangle> refined;
+  refined.reserve(triangles.size() * 2);
+  for (const auto& triangle : triangles) {
+    Triangle mid{};
+    for (int corner = 0; corner < 3; ++corner) {
+      mid[corner] = midpoint_of(triangle[corner], triangle[(corner + 1) % 3]);
+    }
+    RefineTriangle(triangle, mid, refined);
+  }
+  return refined;
+}
+
+// The mesh with every vertex moved by its transform.
+TvmFrame PosedFrame(const RefiningMesh& mesh) {
+  TvmFrame result;
+  result.positions.resize(static_cast<Eigen::Index>(mesh.rest.size()), 3);
+  tbb::parallel_for(size_t{0}, mesh.rest.size(), [&](size_t v) {
+    result.positions.row(static_cast<Eigen::Index>(v)) =
+        mesh.transforms[v].Apply(mesh.rest[v]).transpose();
+  });
+  result.triangles.resize(static_cast<Eigen::Index>(mesh.triangles.size()), 3);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int corner = 0; corner < 3; ++corner) {
+      result.triangles(static_cast<Eigen::Index>(t), corner) = mesh.triangles[t][corner];
+    }
+  }
+  return result;
+}
+
 }  // namespace
 
 TvmFrame DeformFrame(const AffinityGraph& graph, int frame, const TvmFrame& frame_mesh,
@@ -131,126 +283,19 @@ TvmFrame DeformFrame(const AffinityGraph& graph, int frame, const TvmFrame& fram
     computed = ComputeSurfaceWeights(graph, frame, frame_mesh.positions, options);
     weights = &computed;
   }
-  const int k = weights->k;
-  const int original_vertices = frame_mesh.vertex_count();
-  std::vector<DualQuaternion> vertex_transforms(static_cast<size_t>(original_vertices));
-  tbb::parallel_for(tbb::blocked_range<int>(0, original_vertices, 512), [&](const auto& range) {
-    for (int v = range.begin(); v != range.end(); ++v) {
-      const size_t at = static_cast<size_t>(v) * k;
-      vertex_transforms[static_cast<size_t>(v)] = VertexTransform(
-          transforms, weights->centres.data() + at, weights->weights.data() + at, k);
-    }
-  });
-
-  // Rest positions and triangles, growing as edges are split.
-  std::vector<Eigen::Vector3d> rest(static_cast<size_t>(original_vertices));
-  for (int v = 0; v < original_vertices; ++v)
-    rest[static_cast<size_t>(v)] = frame_mesh.positions.row(v);
-  std::vector<std::array<int32_t, 3>> triangles(static_cast<size_t>(frame_mesh.triangle_count()));
-  for (int t = 0; t < frame_mesh.triangle_count(); ++t) {
-    triangles[static_cast<size_t>(t)] = {frame_mesh.triangles(t, 0), frame_mesh.triangles(t, 1),
-                                         frame_mesh.triangles(t, 2)};
-  }
-
-  // Split where cos(angle(T_a T_b*) / 2) < cos(zeta / 2), i.e. the relative rotation exceeds zeta.
+  RefiningMesh mesh = StartRefining(frame_mesh, transforms, *weights);
   const double split_cosine = std::cos(0.5 * options.subdivision_angle);
   for (int round = 0; round < options.subdivision_iterations; ++round) {
-    std::vector<uint64_t> split_edges;
-    for (const auto& triangle : triangles) {
-      for (int corner = 0; corner < 3; ++corner) {
-        const int32_t a = triangle[corner], b = triangle[(corner + 1) % 3];
-        const DualQuaternion delta = vertex_transforms[static_cast<size_t>(a)] *
-                                     vertex_transforms[static_cast<size_t>(b)].Conjugate();
-        if (std::abs(delta.real().w()) < split_cosine * delta.real().norm()) {
-          split_edges.push_back(EdgeKey(a, b));
-        }
-      }
-    }
+    const std::vector<uint64_t> split_edges = EdgesToSplit(mesh, split_cosine);
     if (split_edges.empty()) break;
-    std::sort(split_edges.begin(), split_edges.end());
-    split_edges.erase(std::unique(split_edges.begin(), split_edges.end()), split_edges.end());
-
-    // One midpoint per split edge, weighted and transformed like any vertex of the frame.
-    const int32_t first_new = static_cast<int32_t>(rest.size());
-    rest.resize(rest.size() + split_edges.size());
-    vertex_transforms.resize(rest.size());
-    tbb::parallel_for(size_t{0}, split_edges.size(), [&](size_t e) {
-      const auto a = static_cast<size_t>(split_edges[e] >> 32);
-      const auto b = static_cast<size_t>(split_edges[e] & 0xffffffffu);
-      const Eigen::Vector3d midpoint = 0.5 * (rest[a] + rest[b]);
-      std::vector<int32_t> centres;
-      std::vector<double> vertex_weights;
-      ComputeVertexWeights(graph, frame, midpoint, options, centres, vertex_weights);
-      rest[first_new + e] = midpoint;
-      vertex_transforms[first_new + e] = VertexTransform(
-          transforms, centres.data(), vertex_weights.data(), static_cast<int>(centres.size()));
-    });
-    auto midpoint_of = [&](int32_t a, int32_t b) -> int32_t {
-      const auto it = std::lower_bound(split_edges.begin(), split_edges.end(), EdgeKey(a, b));
-      if (it == split_edges.end() || *it != EdgeKey(a, b)) return -1;
-      return first_new + static_cast<int32_t>(it - split_edges.begin());
-    };
-
-    // Red-green refinement keeping each triangle's orientation: 1, 2 or 3 split edges give 2, 3
-    // or 4 triangles (Fig. 4 of the paper for one edge).
-    std::vector<std::array<int32_t, 3>> refined;
-    refined.reserve(triangles.size() * 2);
-    for (const auto& triangle : triangles) {
-      std::array<int32_t, 3> mid{};
-      int split = 0;
-      for (int corner = 0; corner < 3; ++corner) {
-        mid[corner] = midpoint_of(triangle[corner], triangle[(corner + 1) % 3]);
-        split += mid[corner] >= 0 ? 1 : 0;
-      }
-      if (split == 0) {
-        refined.push_back(triangle);
-      } else if (split == 3) {
-        const auto [a, b, c] = triangle;
-        refined.push_back({a, mid[0], mid[2]});
-        refined.push_back({mid[0], b, mid[1]});
-        refined.push_back({mid[2], mid[1], c});
-        refined.push_back({mid[0], mid[1], mid[2]});
-      } else {
-        // Rotate the corners so that edge 0 (a-b) is split and, for two splits, edge 1 (b-c) too.
-        int shift = 0;
-        for (int r = 0; r < 3; ++r) {
-          const bool first = mid[r] >= 0, second = mid[(r + 1) % 3] >= 0;
-          if (split == 1 ? first : (first && second)) {
-            shift = r;
-            break;
-          }
-        }
-        const int32_t a = triangle[shift], b = triangle[(shift + 1) % 3],
-                      c = triangle[(shift + 2) % 3];
-        const int32_t m_ab = mid[shift], m_bc = mid[(shift + 1) % 3];
-        if (split == 1) {
-          refined.push_back({a, m_ab, c});
-          refined.push_back({m_ab, b, c});
-        } else {
-          refined.push_back({m_ab, b, m_bc});
-          refined.push_back({a, m_ab, m_bc});
-          refined.push_back({a, m_bc, c});
-        }
-      }
-    }
-    triangles = std::move(refined);
+    const auto first_new = static_cast<int32_t>(mesh.rest.size());
+    AddMidpoints(graph, frame, transforms, options, split_edges, mesh);
+    mesh.triangles = RefineTriangles(mesh.triangles, split_edges, first_new);
   }
-
-  TvmFrame result;
-  result.positions.resize(static_cast<Eigen::Index>(rest.size()), 3);
-  tbb::parallel_for(size_t{0}, rest.size(), [&](size_t v) {
-    result.positions.row(static_cast<Eigen::Index>(v)) =
-        vertex_transforms[v].Apply(rest[v]).transpose();
-  });
-  result.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
-  for (size_t t = 0; t < triangles.size(); ++t) {
-    for (int corner = 0; corner < 3; ++corner) {
-      result.triangles(static_cast<Eigen::Index>(t), corner) = triangles[t][corner];
-    }
+  if (vertices_added != nullptr) {
+    *vertices_added = static_cast<int>(mesh.rest.size()) - frame_mesh.vertex_count();
   }
-  if (vertices_added != nullptr)
-    *vertices_added = static_cast<int>(rest.size()) - original_vertices;
-  return result;
+  return PosedFrame(mesh);
 }
 
 }  // namespace dmc::tvm
