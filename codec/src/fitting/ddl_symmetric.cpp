@@ -162,46 +162,31 @@ SparseMatrixD SignlessLaplacian(const MeshTopology& topology, const ConstraintSe
   return matrix;
 }
 
-}  // namespace
+// The fit's per-edge terms: the diagonal of M (both endpoints see ‖c_j − c_i‖²) plus 2μ_t, and
+// the linear term μ_t (r_ij + r_ji) pulling toward the reference weights.
+struct EdgeTerms {
+  Eigen::VectorXd diagonal, linear;
+};
 
-StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
-                                          const OperatorSource& source,
-                                          const OperatorOptions& options) {
-  DMC_ASSIGN_OR_RETURN(const Eigen::MatrixXd* trajectories_ptr,
-                       fitting_internal::RequireTrajectories(topology, source, "ddl"));
-  const Eigen::MatrixXd& trajectories = *trajectories_ptr;
-  if (!(options.ddl.mu >= 0.0) || !(options.ddl.min_mu >= 0.0) || !std::isfinite(options.ddl.mu) ||
-      !std::isfinite(options.ddl.min_mu)) {
-    return InvalidArgumentError(
-        fmt::format("ddl: mu ({}) and min_mu ({}) must be finite and non-negative", options.ddl.mu,
-                    options.ddl.min_mu));
-  }
-  DMC_ASSIGN_OR_RETURN(std::vector<double> reference,
-                       fitting_internal::ReferenceDirectedWeights(topology, source, options));
-  const int v_count = topology.vertex_count, e_count = topology.edge_count();
-  const double mu_total = options.ddl.mu + options.ddl.min_mu;
-  const double scale = fitting_internal::MeanSquaredEdgeDifference(topology, trajectories);
-  const ConstraintSet constraints = ChooseConstraints(topology);
-
-  OperatorStats stats;
-  stats.dropped_constraints = constraints.dropped;
-  stats.inconsistent_rows = constraints.inconsistent;
-  stats.isolated_vertices = topology.isolated_vertex_count;
-  if (e_count == 0) {
-    return OperatorFromWeights("ddl", topology, {WeightLayout::kPerEdge, {}}, true);
-  }
-
-  // Diagonal of M per edge (both endpoints see ‖c_j − c_i‖²) and its mean around each vertex.
-  Eigen::VectorXd edge_diagonal(e_count), linear(e_count);
+EdgeTerms ComputeEdgeTerms(const MeshTopology& topology, const Eigen::MatrixXd& trajectories,
+                           const std::vector<double>& reference, double scale, double mu_total) {
+  const int e_count = topology.edge_count();
+  EdgeTerms terms{Eigen::VectorXd(e_count), Eigen::VectorXd(e_count)};
   for (int e = 0; e < e_count; ++e) {
     const int i = topology.edges[e][0], j = topology.edges[e][1];
-    edge_diagonal[e] =
+    terms.diagonal[e] =
         2.0 * (trajectories.row(j) - trajectories.row(i)).squaredNorm() / scale + 2.0 * mu_total;
-    linear[e] =
+    terms.linear[e] =
         mu_total * (reference[RingSlot(topology, i, j)] + reference[RingSlot(topology, j, i)]);
   }
-  std::vector<double> local_scale(v_count, 0.0);
-  for (int v = 0; v < v_count; ++v) {
+  return terms;
+}
+
+// The mean of the edge diagonal around each vertex: the scale of its constraint's penalty.
+std::vector<double> LocalPenaltyScales(const MeshTopology& topology,
+                                       const Eigen::VectorXd& edge_diagonal) {
+  std::vector<double> local_scale(topology.vertex_count, 0.0);
+  for (int v = 0; v < topology.vertex_count; ++v) {
     const int degree = topology.degree(v);
     if (degree == 0) continue;
     double sum = 0.0;
@@ -212,16 +197,17 @@ StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
     // penalty for its constraint to bind.
     local_scale[v] = std::max(sum / degree, 1e-12);
   }
+  return local_scale;
+}
 
-  const SparseMatrixD system =
-      AssembleSystem(topology, trajectories, constraints, scale, mu_total, local_scale);
-  SolverOptions solver_options = options.solver;
+StatusOr<SparseSpdSolver> FactorFitSystem(const SparseMatrixD& system, int e_count,
+                                          const SolverOptions& requested) {
+  SolverOptions solver_options = requested;
   // The multiplier iteration and the final projection absorb a loose inner solve, and a system
   // determined only by min_mu is legitimately ill-conditioned: require definiteness only.
   solver_options.min_pivot_ratio = 0.0;
   solver_options.max_relative_residual = 1e-4;
-  // On the edge graph METIS's analysis costs more than its fill saves until ~150k edges
-  // (E = 30k: AMD 0.15 s vs METIS 0.38 s CPU; E = 300k: 7.8 s vs 7.1 s).
+  // On the edge graph METIS's analysis costs more than its fill saves until ~150k edges.
   if (solver_options.ordering == SolverOrdering::kAuto) {
     solver_options.ordering = e_count < 150000 ? SolverOrdering::kAmd : SolverOrdering::kMetis;
   }
@@ -231,8 +217,15 @@ StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
     // undetermined that min_mu is lost in rounding.
     return factored.status().WithContext("ddl: fit system (raise mu or min_mu)");
   }
-  const SparseSpdSolver& solver = *factored;
+  return factored;
+}
 
+// The augmented-Lagrangian iteration on the unit-sum constraints: solve for w, then move the
+// multipliers along the violation, until it is below kConstraintTolerance or kMaxIterations.
+StatusOr<Eigen::VectorXd> SolveWithMultipliers(
+    const MeshTopology& topology, const ConstraintSet& constraints, const SparseSpdSolver& solver,
+    const Eigen::VectorXd& linear, const std::vector<double>& local_scale, OperatorStats& stats) {
+  const int e_count = topology.edge_count();
   Eigen::VectorXd multipliers = Eigen::VectorXd::Zero(constraints.row_count);
   Eigen::VectorXd w(e_count);
   Eigen::MatrixXd rhs(e_count, 1);
@@ -249,29 +242,72 @@ StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
     w = solution.col(0);
     const Eigen::VectorXd violation = ConstraintViolation(topology, constraints, w);
     ++stats.solver_iterations;
-    for (int v = 0; v < v_count; ++v) {
+    for (int v = 0; v < topology.vertex_count; ++v) {
       const int row = constraints.row_of_vertex[v];
       if (row >= 0) multipliers[row] += kPenalty * local_scale[v] * violation[row];
     }
     if (violation.size() == 0 || violation.cwiseAbs().maxCoeff() < kConstraintTolerance) break;
   }
+  return w;
+}
 
-  // Exact projection onto A·w = 1 (minimum-norm correction).
-  if (constraints.row_count > 0) {
-    DMC_ASSIGN_OR_RETURN(SparseSpdSolver projector,
-                         SparseSpdSolver::Factor(SignlessLaplacian(topology, constraints),
-                                                 SolverOptions{options.solver.backend}));
-    DMC_ASSIGN_OR_RETURN(Eigen::MatrixXd correction,
-                         projector.Solve(ConstraintViolation(topology, constraints, w)));
-    for (int e = 0; e < e_count; ++e) {
-      for (const int v : topology.edges[e]) {
-        const int row = constraints.row_of_vertex[v];
-        if (row >= 0) w[e] -= correction(row, 0);
-      }
+// Exact projection of w onto A·w = 1 (minimum-norm correction); records the remaining error.
+Status ProjectOntoConstraints(const MeshTopology& topology, const ConstraintSet& constraints,
+                              SolverBackend backend, Eigen::VectorXd& w, OperatorStats& stats) {
+  if (constraints.row_count == 0) return Status::Ok();
+  DMC_ASSIGN_OR_RETURN(
+      SparseSpdSolver projector,
+      SparseSpdSolver::Factor(SignlessLaplacian(topology, constraints), SolverOptions{backend}));
+  DMC_ASSIGN_OR_RETURN(Eigen::MatrixXd correction,
+                       projector.Solve(ConstraintViolation(topology, constraints, w)));
+  for (int e = 0; e < topology.edge_count(); ++e) {
+    for (const int v : topology.edges[e]) {
+      const int row = constraints.row_of_vertex[v];
+      if (row >= 0) w[e] -= correction(row, 0);
     }
-    stats.constraint_error = ConstraintViolation(topology, constraints, w).cwiseAbs().maxCoeff();
   }
+  stats.constraint_error = ConstraintViolation(topology, constraints, w).cwiseAbs().maxCoeff();
+  return Status::Ok();
+}
 
+}  // namespace
+
+StatusOr<LaplaceOperator> FitDdlSymmetric(const MeshTopology& topology,
+                                          const OperatorSource& source,
+                                          const OperatorOptions& options) {
+  DMC_ASSIGN_OR_RETURN(const Eigen::MatrixXd* trajectories_ptr,
+                       fitting_internal::RequireTrajectories(topology, source, "ddl"));
+  const Eigen::MatrixXd& trajectories = *trajectories_ptr;
+  if (!(options.ddl.mu >= 0.0) || !(options.ddl.min_mu >= 0.0) || !std::isfinite(options.ddl.mu) ||
+      !std::isfinite(options.ddl.min_mu)) {
+    return InvalidArgumentError(
+        fmt::format("ddl: mu ({}) and min_mu ({}) must be finite and non-negative", options.ddl.mu,
+                    options.ddl.min_mu));
+  }
+  DMC_ASSIGN_OR_RETURN(std::vector<double> reference,
+                       fitting_internal::ReferenceDirectedWeights(topology, source, options));
+  const int e_count = topology.edge_count();
+  const double mu_total = options.ddl.mu + options.ddl.min_mu;
+  const double scale = fitting_internal::MeanSquaredEdgeDifference(topology, trajectories);
+  const ConstraintSet constraints = ChooseConstraints(topology);
+
+  OperatorStats stats;
+  stats.dropped_constraints = constraints.dropped;
+  stats.inconsistent_rows = constraints.inconsistent;
+  stats.isolated_vertices = topology.isolated_vertex_count;
+  if (e_count == 0) {
+    return OperatorFromWeights("ddl", topology, {WeightLayout::kPerEdge, {}}, true);
+  }
+  const EdgeTerms terms = ComputeEdgeTerms(topology, trajectories, reference, scale, mu_total);
+  const std::vector<double> local_scale = LocalPenaltyScales(topology, terms.diagonal);
+  DMC_ASSIGN_OR_RETURN(const SparseSpdSolver solver,
+                       FactorFitSystem(AssembleSystem(topology, trajectories, constraints, scale,
+                                                      mu_total, local_scale),
+                                       e_count, options.solver));
+  DMC_ASSIGN_OR_RETURN(Eigen::VectorXd w, SolveWithMultipliers(topology, constraints, solver,
+                                                               terms.linear, local_scale, stats));
+  DMC_RETURN_IF_ERROR(
+      ProjectOntoConstraints(topology, constraints, options.solver.backend, w, stats));
   DMC_ASSIGN_OR_RETURN(LaplaceOperator result,
                        OperatorFromWeights("ddl", topology,
                                            {WeightLayout::kPerEdge,
