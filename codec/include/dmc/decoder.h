@@ -106,6 +106,7 @@ using DecodeProgressCallback = std::function<void(int frames_done, int frames_to
 // first; on any failure (a damaged stream, a full disk) neither is left behind and existing files
 // are untouched. Errors: those of Decode, kIoError for the files, kInvalidArgument for
 // segments_in_flight < 1.
+// Defined in dmc_decoder_files (dmc_decoder plus dmc_io), not in dmc_decoder.
 Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
                    const DecodeProgressCallback& progress = {}, int segments_in_flight = 1);
 
