@@ -37,6 +37,7 @@
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
 #include "kit/vector_kit.h"
+#include "synth/grid_triangles.h"
 
 namespace dmc::conformance {
 namespace {
@@ -95,15 +96,7 @@ Source StaticSynth(const std::string& name, int resolution, int frames) {
 Source GridWithIsolatedVertex(int n, int frames) {
   Json description = {{"mesh", "grid with one isolated vertex"}, {"grid", n}, {"frames", frames}};
   return {description, [=]() -> StatusOr<MeshSequence> {
-            Triangles triangles(2 * (n - 1) * (n - 1), 3);
-            int t = 0;
-            for (int y = 0; y + 1 < n; ++y) {
-              for (int x = 0; x + 1 < n; ++x) {
-                const int v = y * n + x;
-                triangles.row(t++) << v, v + 1, v + n + 1;
-                triangles.row(t++) << v, v + n + 1, v + n;
-              }
-            }
+            const Triangles triangles = synth::GridTriangles(n, n, synth::GridDiagonals::kUniform);
             const int isolated = n * n;
             MeshSequence sequence(n * n + 1, triangles, frames);
             for (int f = 0; f < frames; ++f) {
