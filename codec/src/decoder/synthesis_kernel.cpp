@@ -8,9 +8,8 @@ namespace {
 
 // Eight binary64 lanes in GCC's generic vector type: one AVX-512 register, two AVX2 or four SSE2
 // registers in the other variants. Every lane is one trajectory entry with its own running sum, so
-// lanes never combine and the vector width cannot change a result. Measured on the 10k × 175,
-// rank-60 synthesis (BM_StageBasisMultiply): 4 lanes × 2 vectors 49 ms, 8 × 2 and converting
-// frame by frame 17 ms, against 56 ms for Eigen's product (built for the baseline ISA).
+// lanes never combine and the vector width cannot change a result. The layout was chosen with
+// BM_StageBasisMultiply on an AVX-512 CPU (tests/bench/README.md, "Decoder design choices").
 typedef double Lanes __attribute__((vector_size(64)));
 constexpr int kLaneCount = 8;
 constexpr int kStripVectors = 2;  // kGroup × kStripVectors sums live in registers over all k

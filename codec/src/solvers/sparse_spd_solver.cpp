@@ -77,15 +77,9 @@ bool SolveColumnBlock(cholmod_factor* factor, const Eigen::MatrixXd& rhs, Eigen:
   return ok;
 }
 
-// Orderings measured with CPU time on 2-ring normal matrices LᵀL + anchors (2 cores, reference
-// BLAS; CHOLMOD supernodal, analyse + factor + solve of 64 right-hand sides):
-//   V = 10k:  AMD 0.008 + 0.145 + 0.116 s,  METIS 0.073 + 0.070 + 0.085 s,
-//             Eigen SimplicialLDLT 0.102 + 0.164 s;
-//   V = 100k: AMD 0.10 + 5.3 + 2.1 s,  METIS 0.95 + 2.1 + 1.4 s,  SimplicialLDLT 5.3 + 5.1 s.
-// With OpenBLAS (now installed) the factorisation is cheaper and METIS's analysis dominates at
-// 10k: a whole `dmc decode` of samba (9971 V, r = 19) takes 204-249 ms CPU with AMD against
-// 275-319 ms with METIS; at 50k (synthetic blob, tutte) the two are level (1.4-1.8 s each), and
-// at 100k METIS wins as above. Nested dissection from 30k unknowns on.
+// kAuto's ordering: nested dissection (METIS) from 30k unknowns, AMD below, where METIS's analysis
+// costs more than the fill it saves (BM_NormalEquations compares them at 10k and 100k; the
+// decoder's normal matrices choose their own, NormalMatrixOrdering).
 constexpr int kNestedDissectionThreshold = 30000;
 
 int CholmodOrdering(SolverOrdering ordering, Eigen::Index size) {
@@ -180,9 +174,8 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
   impl->matrix = matrix;
   impl->matrix.makeCompressed();
   impl->options = options;
-  // kAuto: CHOLMOD (supernodal LLᵀ, METIS from 30000 unknowns): 0.23 s against 0.27 s for
-  // SimplicialLDLT on the 10k-vertex normal matrix with 64 right-hand sides, 4.4 s against 10.4 s
-  // at 100k (numbers above; tests/bench/bench_operators.cpp re-measures them).
+  // kAuto: CHOLMOD (supernodal LLᵀ), faster than SimplicialLDLT from 10k unknowns on
+  // (tests/bench/bench_operators.cpp measures both).
   impl->backend =
       options.backend == SolverBackend::kAuto ? SolverBackend::kCholmod : options.backend;
 
