@@ -32,8 +32,9 @@ struct EncodeArgs {
 };
 
 // Encodes with EncodeStreaming: a PC2 cache is read segment by segment (memory bounded by one
-// segment, also under rate control, which then reads the cache once per trial); other inputs are
-// read whole first and encoded several segments at a time. The bytes are Encode()'s either way.
+// segment, also under rate control, which then reads the cache once or twice per trial); other
+// inputs are read whole first and encoded several segments at a time. The bytes are Encode()'s
+// either way.
 Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, EncodeReport& report) {
   std::optional<Progress> progress;
   std::string progress_label;

@@ -175,8 +175,9 @@ struct StreamingEncodeOptions {
 // segment of decoded and original frames; never the whole sequence.
 // Rate control (target_bpfv / target_sted) streams too: a search over the residual step whose
 // trials are whole encodes into memory (the compressed stream only); the last trial that met the
-// target is written to `output`. The source is read about 14 times, memory stays as above, and
-// the step, bytes and report are Encode()'s (Encode() runs this same pipeline).
+// target is written to `output`. The source is read once to scan, then once per trial (12 trials),
+// twice per trial for target_sted (the trial's measurement); memory stays as above, and the step,
+// bytes and report are Encode()'s (Encode() runs this same pipeline).
 Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                        const EncoderOptions& options, EncodeReport* report = nullptr,
                        const StreamingEncodeOptions& streaming = {});

@@ -1,7 +1,7 @@
 // The encoder's options as one declarative table, read by everything that exposes them: `dmc
 // encode`'s flags, dmc.encode()'s keywords and the conformance manifests' "encoder_options". Each
 // knob has one name: the Python keyword and the manifest key are the name, the CLI flag is --name
-// with '-' for '_' (a flag whose default is true is also accepted as --no-name). Defaults are
+// with '-' for '_' (every switch also as --no-name). Defaults are
 // EncoderOptions's own; the table only names, types and describes its fields.
 #pragma once
 
@@ -43,7 +43,8 @@ std::string SpellOption(std::string_view name, OptionSpelling spelling);
 
 // kInvalidArgument naming the option at fault (spelt as `spelling`) and its valid range;
 // kNotFound / kUnsupported from the operator name as the codec's operator list checks it. Encode
-// and EncodeStreaming run it with OptionSpelling::kName before anything else.
+// and EncodeStreaming run it with OptionSpelling::kName before any pass over the frames (Encode
+// validates the sequence first).
 Status ValidateOptions(const EncoderOptions& options,
                        OptionSpelling spelling = OptionSpelling::kName);
 

@@ -32,6 +32,8 @@ class StreamSink {
   virtual ~StreamSink() = default;
   virtual Status Append(std::span<const uint8_t> bytes) = 0;
   virtual uint64_t size() const = 0;
+  // Everything appended so far when the sink keeps it in memory, else nullptr.
+  virtual const std::vector<uint8_t>* retained() const { return nullptr; }
 };
 
 class MemorySink final : public StreamSink {
@@ -41,6 +43,7 @@ class MemorySink final : public StreamSink {
     return Status::Ok();
   }
   uint64_t size() const override { return bytes_.size(); }
+  const std::vector<uint8_t>* retained() const override { return &bytes_; }
   std::vector<uint8_t> Take() { return std::move(bytes_); }
 
  private:
@@ -96,27 +99,38 @@ struct EncodeJob {
   }
 };
 
-// One encode at fixed parameters: the scan (bounding box, finiteness, the metrics' original
-// terms when measuring), the prefix, the segments, the end chunk, and with options.measure the
-// decode-and-compare pass over the finished stream.
-Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, StreamSink& sink,
-                  EncodeReport& report) {
-  FrameSource& source = job.source;
-  std::optional<StreamingDistortion> meter;
-  if (options.measure) {
-    DMC_ASSIGN_OR_RETURN(meter, CreateSourceMeter(source));
+// The scan every encode starts with: finiteness, the bounding box's diagonal (the residual step
+// derives from it) and, when measuring, the metrics' original-only terms.
+struct SourceScan {
+  double diagonal = 0.0;
+  std::optional<StreamingDistortion> meter;  // original terms complete; no segment added yet
+};
+
+StatusOr<SourceScan> ScanForEncode(const EncodeJob& job, bool with_meter) {
+  SourceScan scan;
+  if (with_meter) {
+    DMC_ASSIGN_OR_RETURN(scan.meter, CreateSourceMeter(job.source));
   }
   DMC_ASSIGN_OR_RETURN(const BoundingBox box,
-                       ScanSource(source, meter ? &*meter : nullptr,
+                       ScanSource(job.source, scan.meter ? &*scan.meter : nullptr,
                                   [&](int done) { job.Progress(EncodeStage::kScan, done); }));
-  if (meter) DMC_RETURN_IF_ERROR(meter->FinishOriginal());
-  DMC_ASSIGN_OR_RETURN(const StreamPlan plan,
-                       PlanStream(source.frame_count(), std::max(box.diagonal(), 1e-12), options));
+  if (scan.meter) DMC_RETURN_IF_ERROR(scan.meter->FinishOriginal());
+  scan.diagonal = std::max(box.diagonal(), 1e-12);
+  return scan;
+}
 
+// One encode at fixed parameters after the scan: the prefix, the segments, the end chunk, and
+// with a `meter` (the scan's, or a copy of it) the decode-and-compare pass over the finished
+// stream, read back from the sink when it keeps the bytes, else from a copy taken as written.
+Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, double diagonal,
+                  StreamingDistortion* meter, StreamSink& sink, EncodeReport& report) {
+  FrameSource& source = job.source;
+  DMC_ASSIGN_OR_RETURN(const StreamPlan plan, PlanStream(source.frame_count(), diagonal, options));
   report = EncodeReport();
-  std::vector<uint8_t> stream;  // the measurement decodes the finished stream
+  const bool keep_copy = meter && !sink.retained();
+  std::vector<uint8_t> copy;
   auto write = [&](std::span<const uint8_t> bytes) -> Status {
-    if (meter) stream.insert(stream.end(), bytes.begin(), bytes.end());
+    if (keep_copy) copy.insert(copy.end(), bytes.begin(), bytes.end());
     return sink.Append(bytes);
   };
   format::ChunkSizes totals;
@@ -129,6 +143,7 @@ Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, StreamSin
   DMC_RETURN_IF_ERROR(write(StreamEnd(plan, totals)));
   FillRateReport(plan, source.vertex_count(), sink.size(), totals, report);
   if (meter) {
+    const std::vector<uint8_t>& stream = keep_copy ? copy : *sink.retained();
     DMC_ASSIGN_OR_RETURN(
         report.distortion,
         MeasureStream(source, stream, job.connectivity.vertex_order, plan, *meter,
@@ -138,27 +153,28 @@ Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, StreamSin
   return Status::Ok();
 }
 
-// Rate control: SearchResidualStep's trials are whole encodes into memory (measured only for a
-// distortion target); the last one that met the target is written to `sink`, and measured
-// afterwards when options.measure asks for it and the search did not. Memory stays one segment's
-// plus two compressed streams; the source is read about 14 times (a scan, then a scan and the
-// segments per trial).
+// Rate control: one scan, then SearchResidualStep's trials, each a whole encode into memory
+// (measured, with a copy of the scan's meter, only for a distortion target); the last trial that
+// met the target is written to `sink`, and measured afterwards when options.measure asks for it
+// and the search did not. Memory: one segment's buffers plus two compressed streams. The source
+// is read once to scan, then once per trial (12), twice with a distortion target.
 Status EncodeWithRateSearch(const EncodeJob& job, const EncoderOptions& options, StreamSink& sink,
                             EncodeReport& report) {
-  FrameSource& source = job.source;
-  DMC_ASSIGN_OR_RETURN(const BoundingBox box, ScanSource(source, nullptr, [&](int done) {
-                         job.Progress(EncodeStage::kScan, done);
-                       }));
-  const double diagonal = std::max(box.diagonal(), 1e-12);
+  const bool measure_trials = options.target_sted > 0.0;
+  DMC_ASSIGN_OR_RETURN(SourceScan scan, ScanForEncode(job, measure_trials || options.measure));
   std::vector<uint8_t> best;
   EncoderOptions chosen;
   DMC_RETURN_IF_ERROR(SearchResidualStep(
-      options, diagonal, [&](const EncoderOptions& trial_options) -> StatusOr<bool> {
+      options, scan.diagonal, [&](const EncoderOptions& trial_options) -> StatusOr<bool> {
         EncoderOptions trial = trial_options;
-        trial.measure = options.target_sted > 0.0;
+        trial.measure = measure_trials;
+        std::optional<StreamingDistortion> trial_meter;
+        if (measure_trials) trial_meter = *scan.meter;
         MemorySink trial_sink;
         EncodeReport trial_report;
-        DMC_RETURN_IF_ERROR(EncodeOnce(job, trial, trial_sink, trial_report));
+        DMC_RETURN_IF_ERROR(EncodeOnce(job, trial, scan.diagonal,
+                                       trial_meter ? &*trial_meter : nullptr, trial_sink,
+                                       trial_report));
         const bool meets = MeetsRateTarget(options, trial_report);
         if (meets) {
           best = trial_sink.Take();
@@ -169,27 +185,30 @@ Status EncodeWithRateSearch(const EncodeJob& job, const EncoderOptions& options,
       }));
   DMC_RETURN_IF_ERROR(sink.Append(best));
   if (!options.measure || report.measured) return Status::Ok();
-  DMC_ASSIGN_OR_RETURN(StreamingDistortion meter, CreateSourceMeter(source));
-  DMC_RETURN_IF_ERROR(ScanSource(source, &meter, [](int) {}).status());
-  DMC_RETURN_IF_ERROR(meter.FinishOriginal());
-  DMC_ASSIGN_OR_RETURN(const StreamPlan plan, PlanStream(source.frame_count(), diagonal, chosen));
-  DMC_ASSIGN_OR_RETURN(report.distortion,
-                       MeasureStream(source, best, job.connectivity.vertex_order, plan, meter,
-                                     [&](int done) { job.Progress(EncodeStage::kMeasure, done); }));
+  DMC_ASSIGN_OR_RETURN(const StreamPlan plan,
+                       PlanStream(job.source.frame_count(), scan.diagonal, chosen));
+  DMC_ASSIGN_OR_RETURN(
+      report.distortion,
+      MeasureStream(job.source, best, job.connectivity.vertex_order, plan, *scan.meter,
+                    [&](int done) { job.Progress(EncodeStage::kMeasure, done); }));
   report.measured = true;
   return Status::Ok();
 }
 
-// The driver, after CheckEncodeRequest: connectivity first (the rest of the stream uses the
-// decoder's vertex labels and topology), then one encode or rate control's search.
-Status RunEncoder(FrameSource& source, const EncoderOptions& options,
-                  const StreamingEncodeOptions& streaming, StreamSink& sink, EncodeReport& report) {
-  DMC_ASSIGN_OR_RETURN(
-      const ConnectivityCode connectivity,
-      EncodeConnectivity(source.triangles(), source.vertex_count(), options.allow_reorder));
+// The driver, after CheckEncodeRequest and the connectivity (the rest of the stream uses the
+// decoder's vertex labels and topology): one encode, or rate control's search.
+Status RunEncoder(FrameSource& source, const ConnectivityCode& connectivity,
+                  const EncoderOptions& options, const StreamingEncodeOptions& streaming,
+                  StreamSink& sink, EncodeReport& report) {
   const EncodeJob job{source, connectivity, streaming};
   if (HasRateTarget(options)) return EncodeWithRateSearch(job, options, sink, report);
-  return EncodeOnce(job, options, sink, report);
+  DMC_ASSIGN_OR_RETURN(SourceScan scan, ScanForEncode(job, options.measure));
+  return EncodeOnce(job, options, scan.diagonal, scan.meter ? &*scan.meter : nullptr, sink, report);
+}
+
+StatusOr<ConnectivityCode> EncodeSourceConnectivity(FrameSource& source,
+                                                    const EncoderOptions& options) {
+  return EncodeConnectivity(source.triangles(), source.vertex_count(), options.allow_reorder);
 }
 
 }  // namespace
@@ -197,16 +216,19 @@ Status RunEncoder(FrameSource& source, const EncoderOptions& options,
 StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,
                                       EncodeReport* report) {
   const auto start = Clock::now();
+  EncodeReport local;
+  EncodeReport& out = report ? *report : local;
+  out = EncodeReport();
   DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
   SequenceFrameSource source(sequence);
-  // The whole sequence is in memory already: every segment may be encoded at once.
+  // The whole sequence is in memory already: as many segments at once as TBB has threads.
   StreamingEncodeOptions streaming;
   streaming.segments_in_flight = std::max(1, tbb::info::default_concurrency());
   DMC_RETURN_IF_ERROR(CheckEncodeRequest(source, options, streaming));
-  EncodeReport local;
-  EncodeReport& out = report ? *report : local;
+  DMC_ASSIGN_OR_RETURN(const ConnectivityCode connectivity,
+                       EncodeSourceConnectivity(source, options));
   MemorySink sink;
-  DMC_RETURN_IF_ERROR(RunEncoder(source, options, streaming, sink, out));
+  DMC_RETURN_IF_ERROR(RunEncoder(source, connectivity, options, streaming, sink, out));
   out.seconds = SecondsSince(start);
   return sink.Take();
 }
@@ -221,13 +243,16 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
                        const EncoderOptions& options, EncodeReport* report,
                        const StreamingEncodeOptions& streaming) {
   const auto start = Clock::now();
+  EncodeReport local;
+  EncodeReport& out = report ? *report : local;
+  out = EncodeReport();
   DMC_RETURN_IF_ERROR(CheckEncodeRequest(source, options, streaming));
+  DMC_ASSIGN_OR_RETURN(const ConnectivityCode connectivity,
+                       EncodeSourceConnectivity(source, options));
   // Created before the long passes so that an unwritable output fails at once.
   DMC_ASSIGN_OR_RETURN(io_internal::StagedFile file, io_internal::StagedFile::Create(output));
   FileSink sink(std::move(file));
-  EncodeReport local;
-  EncodeReport& out = report ? *report : local;
-  DMC_RETURN_IF_ERROR(RunEncoder(source, options, streaming, sink, out));
+  DMC_RETURN_IF_ERROR(RunEncoder(source, connectivity, options, streaming, sink, out));
   DMC_RETURN_IF_ERROR(sink.Commit());
   out.seconds = SecondsSince(start);
   return Status::Ok();

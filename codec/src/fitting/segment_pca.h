@@ -23,8 +23,9 @@ SegmentTrajectories GatherTrajectories(const MeshSequence& sequence, int first_f
                                        int frame_count, const std::vector<int32_t>& relabel = {});
 
 // Stores one frame (V × 3 floats, the MeshSequence layout) as columns 3f, 3f + 1, 3f + 2 of
-// `trajectories`, relabelled as GatherTrajectories does: the streaming encoder fills a segment's
-// trajectories frame by frame with exactly the values GatherTrajectories copies.
+// `trajectories`, relabelled as GatherTrajectories does: the encoder fills a segment's
+// trajectories frame by frame from its FrameSource with it (GatherTrajectories serves the tests
+// and benchmarks that start from a MeshSequence, with the same values).
 void StoreFrame(const float* positions, int frame_in_segment, const std::vector<int32_t>& relabel,
                 SegmentTrajectories& trajectories);
 

@@ -274,8 +274,8 @@ TEST(StreamingEncode, SourceFailureInAnyPassKeepsTheExistingOutput) {
   }
 }
 
-// Rate control streams too: every trial is a streaming encode, and the search is Encode()'s, so
-// the chosen step, the bytes and the report are Encode()'s; the trials' scratch file is removed.
+// Rate control streams too: the trials encode into memory from the frame source, and the search
+// is Encode()'s, so the chosen step, the bytes and the report are Encode()'s.
 TEST(StreamingEncode, RateControlChoosesWhatEncodeChooses) {
   const MeshSequence sequence = Walker(8);
   const ScratchDirectory dir("rate");
