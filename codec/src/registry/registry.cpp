@@ -138,9 +138,12 @@ consteval OperatorInfo Row(std::string_view name, std::string_view description, 
                            bool needs_trajectories, bool symmetric, bool unit_sum,
                            OperatorFactory factory,
                            OperatorDomain domain = OperatorDomain::kVertex) {
-  const OperatorTraits* traits = FindOperatorTraits(name);
+  // A loop rather than FindOperatorTraits: GCC's sanitizer builds do not take a comparison of a
+  // global's address with nullptr as a constant expression.
   std::optional<OperatorId> wire_id;
-  if (traits != nullptr && traits->id != OperatorId::kInvalid) wire_id = traits->id;
+  for (const OperatorTraits& traits : kOperatorTraits) {
+    if (traits.name == name && traits.id != OperatorId::kInvalid) wire_id = traits.id;
+  }
   return {name,      wire_id,  description, needs_geometry, needs_trajectories,
           symmetric, unit_sum, factory,     domain};
 }
