@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libdraco-dev libopenmesh-dev libzstd-dev libgtest-dev libgmock-dev
   libbenchmark-dev libmeshoptimizer-dev libsuitesparse-dev libtbb-dev libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
   libopenblas-dev  # CHOLMOD's supernodal factorisation: 30 % faster decoding than reference BLAS
+  libhwy-dev       # Google Highway: the SIMD variants of frame synthesis (dmc/simd.h)
   libtinygltf-dev libspectra-dev            # glTF import/export; eigensolvers for spectral methods
   pybind11-dev python3-dev python3-numpy python3-scipy  # the Python module and its tests
   clang-14 libclang-rt-14-dev               # libFuzzer and the sanitizer runs

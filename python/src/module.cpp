@@ -1,8 +1,11 @@
 // The `dmc` Python module: the dynamic mesh codec, its metrics, Laplace operators and sequence I/O
 // on NumPy arrays.
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
 #include "bindings.h"
+#include "dmc/simd.h"
+#include "errors.h"
 
 PYBIND11_MODULE(dmc, module) {
   module.doc() = R"(dmc: dynamic mesh codec (animated triangle meshes with fixed connectivity).
@@ -13,7 +16,9 @@ frame). Other real dtypes are converted (float64 -> float32); wrong shapes or dt
 dmc.Error with code ErrorCode.INVALID_ARGUMENT.
 
 Functions: encode, decode, info (the codec); metrics, laplacian, operators (analysis); edit,
-methods (Laplacian processing); read_sequence, write_sequence, synth, synth_names (sequences). Every failure raises dmc.Error, whose code is the
+methods (Laplacian processing); read_sequence, write_sequence, synth, synth_names (sequences);
+simd_variants, simd_variant, set_simd_variant (the SIMD variant of frame synthesis; the DMC_SIMD
+environment variable sets it at import). Every failure raises dmc.Error, whose code is the
 pinned dmc.ErrorCode. Long calls release the GIL, so threads can run them in parallel.)";
   module.attr("__version__") = DMC_VERSION_STRING;
   // Every docstring starts with a hand-written signature ("encode(frames, faces, *, ...)") that
@@ -25,4 +30,19 @@ pinned dmc.ErrorCode. Long calls release the GIL, so threads can run them in par
   dmc::python::RegisterAnalysis(module);
   dmc::python::RegisterEdit(module);
   dmc::python::RegisterIo(module);
+
+  // Frame synthesis's SIMD variants (dmc/simd.h): the same output from each, different speed.
+  dmc::python::ThrowIfError(dmc::SetSimdVariantFromEnvironment());
+  module.def("simd_variants", &dmc::SupportedSimdVariants,
+             "simd_variants() -> list[str]\n\nThe SIMD variants this CPU runs, fastest first "
+             "(\"baseline\" last).");
+  module.def("simd_variant", &dmc::ActiveSimdVariant,
+             "simd_variant() -> str\n\nThe SIMD variant frame synthesis runs now.");
+  module.def(
+      "set_simd_variant",
+      [](const std::string& name) { dmc::python::ThrowIfError(dmc::SetSimdVariant(name)); },
+      pybind11::arg("name"),
+      "set_simd_variant(name)\n\nForces a SIMD variant for the whole process (\"auto\": the "
+      "fastest); raises dmc.Error (INVALID_ARGUMENT for an unknown name, UNSUPPORTED for one this "
+      "CPU lacks).");
 }

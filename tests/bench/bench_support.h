@@ -23,6 +23,7 @@
 
 #include "dmc/metrics.h"
 #include "dmc/sequence.h"
+#include "dmc/simd.h"
 #include "dmc/synth.h"
 
 namespace dmc::bench {
@@ -119,6 +120,33 @@ inline void SetVertexFrameCounters(benchmark::State& state, const MeshSequence& 
       benchmark::Counter(vertex_frames, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["vertices"] = sequence.vertex_count();
   state.counters["frames"] = sequence.frame_count();
+}
+
+// The SIMD variant frame synthesis ran in (dmc/simd.h), as the benchmark's label.
+inline void LabelSimdVariant(benchmark::State& state) {
+  state.SetLabel("simd=" + ActiveSimdVariant());
+}
+
+// Registers `function` once per SIMD variant this CPU runs, fastest first, as
+// `<name>/simd:<variant>`, each run with that variant forced and the previous one restored after;
+// `configure` sets the arguments, unit and timing of every instance.
+template <typename Configure>
+void RegisterPerSimdVariant(const std::string& name, void (*function)(benchmark::State&),
+                            Configure configure) {
+  for (const std::string& variant : SupportedSimdVariants()) {
+    configure(benchmark::RegisterBenchmark((name + "/simd:" + variant).c_str(),
+                                           [function, variant](benchmark::State& state) {
+                                             const std::string previous = ActiveSimdVariant();
+                                             const Status forced = SetSimdVariant(variant);
+                                             if (!forced.ok()) {
+                                               state.SkipWithError(forced.ToString().c_str());
+                                               return;
+                                             }
+                                             function(state);
+                                             if (!SetSimdVariant(previous).ok())
+                                               state.SkipWithError("restoring the SIMD variant");
+                                           }));
+  }
 }
 
 // Per-frame Draco, as a glTF or web pipeline ships an animation without a dynamic codec: every

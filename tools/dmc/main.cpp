@@ -2,9 +2,11 @@
 #include <malloc.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <vector>
 
 #include "commands.h"
+#include "dmc/simd.h"
 
 int main(int argc, char** argv) {
   // Buffers of 1 MiB and more are mapped and go back to the system when freed. glibc's default
@@ -33,6 +35,12 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; every usage error exits 1, the code status.h reserves for it
     // (errors of the codec itself exit 10 + their ErrorCode).
     return app.exit(error) == 0 ? 0 : 1;
+  }
+  // DMC_SIMD forces a SIMD variant of frame synthesis (dmc/simd.h): the output is the same, the
+  // speed is that variant's.
+  if (const dmc::Status simd = dmc::SetSimdVariantFromEnvironment(); !simd.ok()) {
+    std::fprintf(stderr, "error: %s\n", simd.ToString().c_str());
+    return dmc::ExitCodeFor(simd.code());
   }
   for (const auto& command : commands) {
     if (command.app->parsed()) return command.run();

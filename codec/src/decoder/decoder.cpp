@@ -1,6 +1,7 @@
 #include "dmc/decoder.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <fstream>
@@ -218,14 +219,27 @@ Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination
       syntax::ReadOperator(payload(3), topology, syntax).WithContext(where + "operator"));
   DMC_RETURN_IF_ERROR(
       syntax::ReadAnchors(payload(4), info_.vertex_count, syntax).WithContext(where + "anchors"));
-  DMC_RETURN_IF_ERROR(syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
-                          .WithContext(where + "residuals"));
-  // Reconstruction (operator, factorisation) only once every payload has decoded: a stream
-  // rejected in its payloads costs no factorisation and no output (allocation_bound_test).
+  // The residuals decode while the operator is rebuilt and factored (the factorisation does not
+  // read them); the output is allocated only once both have succeeded, so a stream rejected in
+  // its payloads costs no output memory (allocation_bound_test).
+  Status residuals;
+  std::optional<StatusOr<AnchoredLaplacianSolver>> solver;
+  tbb::parallel_invoke(
+      [&] {
+        residuals = syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
+                        .WithContext(where + "residuals");
+      },
+      [&] {
+        if (syntax.header.rank == 0) return;
+        StatusOr<LaplaceOperator> laplace = RebuildSegmentOperator(topology, syntax);
+        solver.emplace(laplace.ok() ? FactorSegmentOperator(topology, *laplace, syntax)
+                                    : StatusOr<AnchoredLaplacianSolver>(laplace.status()));
+      });
+  DMC_RETURN_IF_ERROR(residuals);
   Eigen::MatrixXd coefficients(info_.vertex_count, syntax.header.rank);
-  if (syntax.header.rank > 0) {
-    DMC_ASSIGN_OR_RETURN(LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
-    DMC_ASSIGN_OR_RETURN(coefficients, ReconstructCoefficients(topology, laplace, syntax));
+  if (solver) {
+    DMC_RETURN_IF_ERROR(solver->status());
+    DMC_ASSIGN_OR_RETURN(coefficients, (*solver)->Solve(syntax.delta, syntax.anchor_values));
   }
   syntax.delta.resize(0, 0);  // the largest syntax element, no longer needed
   DMC_ASSIGN_OR_RETURN(float* frames, destination(index));

@@ -46,14 +46,20 @@ SolverOrdering NormalMatrixOrdering(int vertex_count) {
                                                                : SolverOrdering::kMetis;
 }
 
+StatusOr<AnchoredLaplacianSolver> FactorSegmentOperator(const MeshTopology& topology,
+                                                        const LaplaceOperator& laplace,
+                                                        const SegmentSyntax& syntax) {
+  SolverOptions options;
+  options.ordering = NormalMatrixOrdering(topology.vertex_count);
+  return AnchoredLaplacianSolver::Create(topology, laplace.matrix, syntax.anchors,
+                                         syntax.header.anchor_weight, options);
+}
+
 StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
                                                   const LaplaceOperator& laplace,
                                                   const SegmentSyntax& syntax) {
-  SolverOptions options;
-  options.ordering = NormalMatrixOrdering(topology.vertex_count);
-  DMC_ASSIGN_OR_RETURN(auto solver,
-                       AnchoredLaplacianSolver::Create(topology, laplace.matrix, syntax.anchors,
-                                                       syntax.header.anchor_weight, options));
+  DMC_ASSIGN_OR_RETURN(const AnchoredLaplacianSolver solver,
+                       FactorSegmentOperator(topology, laplace, syntax));
   return solver.Solve(syntax.delta, syntax.anchor_values);
 }
 
@@ -67,9 +73,17 @@ Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basi
   constexpr Eigen::Index kBlockRows = 256;
   const Eigen::Index block_count = (v_count + kBlockRows - 1) / kBlockRows;
   const int rank = static_cast<int>(basis.cols());
+  // The basis with each column padded to a whole number of the widest vectors, zeros after the
+  // width: the kernel then has no scalar tail (the padding's sums are never read).
+  const Eigen::Index stride =
+      (width + kSynthesisStrideMultiple - 1) / kSynthesisStrideMultiple * kSynthesisStrideMultiple;
+  std::vector<double> padded_basis(static_cast<size_t>(stride) * rank, 0.0);
+  for (int k = 0; k < rank; ++k) {
+    std::copy_n(basis.col(k).data(), width, padded_basis.data() + static_cast<size_t>(k) * stride);
+  }
   std::atomic<Eigen::Index> first_bad_vertex{v_count};
   struct Scratch {
-    std::vector<double> sums;          // kSynthesisVertexGroup × 3F
+    std::vector<double> sums;          // kSynthesisVertexGroup × stride
     std::vector<double> coefficients;  // the group's coefficient rows, kSynthesisVertexGroup × r
   };
   tbb::enumerable_thread_specific<Scratch> scratches;
@@ -77,7 +91,7 @@ Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basi
     const Eigen::Index begin = block * kBlockRows;
     const Eigen::Index end = std::min(v_count, begin + kBlockRows);
     Scratch& scratch = scratches.local();
-    scratch.sums.resize(static_cast<size_t>(kSynthesisVertexGroup * width));
+    scratch.sums.resize(static_cast<size_t>(kSynthesisVertexGroup * stride));
     scratch.coefficients.resize(static_cast<size_t>(kSynthesisVertexGroup) * rank);
     constexpr double kFloatMax = std::numeric_limits<float>::max();
     bool in_range = true;
@@ -91,7 +105,8 @@ Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basi
         rows[i] = row;
       }
       if (rank > 0) {
-        SumTrajectoryProducts(rows, group_size, basis.data(), rank, width, scratch.sums.data());
+        SumTrajectoryProducts(rows, group_size, padded_basis.data(), rank, stride,
+                              scratch.sums.data());
       } else {
         std::fill(scratch.sums.begin(), scratch.sums.end(), 0.0);
       }
@@ -101,7 +116,7 @@ Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basi
       for (Eigen::Index j = 0; j < width; j += 3) {
         float* out = group_positions + static_cast<size_t>(j / 3) * v_count * 3;
         for (int i = 0; i < group_size; ++i) {
-          const double* sums = scratch.sums.data() + static_cast<size_t>(i) * width + j;
+          const double* sums = scratch.sums.data() + static_cast<size_t>(i) * stride + j;
           for (int axis = 0; axis < 3; ++axis) {
             const double x = sums[axis] + mean[j + axis];
             // NaN fails the comparison; values that round to ±FLT_MAX are still representable.

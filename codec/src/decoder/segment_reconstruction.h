@@ -37,8 +37,14 @@ StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
 inline constexpr int kNormalMatrixNestedDissectionThreshold = 300000;
 SolverOrdering NormalMatrixOrdering(int vertex_count);
 
-// Solves for the V×r coefficients from the operator, deltas and anchors (factor once, solve r),
-// ordered by NormalMatrixOrdering.
+// Factors the segment's normal matrix LᵀL + anchors (ordered by NormalMatrixOrdering): needs the
+// operator, the anchors and the header, not the deltas, so a decoder can factor while the
+// residuals are still being decoded.
+StatusOr<AnchoredLaplacianSolver> FactorSegmentOperator(const MeshTopology& topology,
+                                                        const LaplaceOperator& laplace,
+                                                        const SegmentSyntax& syntax);
+
+// Solves for the V×r coefficients from the operator, deltas and anchors (factor once, solve r).
 StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
                                                   const LaplaceOperator& laplace,
                                                   const SegmentSyntax& syntax);

@@ -149,7 +149,7 @@ DecodeCost MeasureDecode(std::span<const uint8_t> stream) {
 }
 
 std::vector<uint8_t> EncodeSynthetic(const char* generator, int resolution, int frames,
-                                     const char* operator_name) {
+                                     const char* operator_name, int segment_frames = 0) {
   SynthOptions synth;
   synth.resolution = resolution;
   synth.frames = frames;
@@ -159,6 +159,7 @@ std::vector<uint8_t> EncodeSynthetic(const char* generator, int resolution, int 
   EncoderOptions options;
   options.measure = false;
   options.operator_name = operator_name;
+  options.segment_frames = segment_frames;
   const StatusOr<std::vector<uint8_t>> stream = Encode(*sequence, options);
   EXPECT_TRUE(stream.ok()) << stream.status().ToString();
   return stream.ok() ? *stream : std::vector<uint8_t>();
@@ -241,12 +242,13 @@ TEST_F(AllocationBound, EveryByteFlipStaysWithinTheBound) {
 }
 
 TEST_F(AllocationBound, StreamRejectedInItsPayloadsDoesNotAllocateItsOutput) {
-  // A stream whose residual payload is damaged is rejected before reconstruction. The decoder
-  // needs its topology and the segment's syntax elements to get there, far less than the
-  // declared output for a long segment (64 frames: 768 bytes per vertex of positions against a
-  // few dozen of working set), so allocating the output before the payloads are validated shows
-  // up as a peak above half of it.
-  const std::vector<uint8_t> stream = EncodeSynthetic("twist", 2000, 64, "tutte");
+  // A stream whose residual payload is damaged is rejected before its frames are synthesised.
+  // The decoder needs its topology, the segment's syntax elements and (factored while the
+  // residuals decode) the normal matrix's factor to get there: a working set that grows with
+  // the vertex count alone, far less than the declared output of a long segment (480 frames:
+  // 5760 bytes per vertex of positions), so allocating the output before the payloads are
+  // validated shows up as a peak above half of it.
+  const std::vector<uint8_t> stream = EncodeSynthetic("twist", 1000, 480, "tutte", 480);
   ASSERT_FALSE(stream.empty());
   ASSERT_EQ(ReadStreamInfo(stream)->segments.size(), 1u);
   std::optional<size_t> residuals;  // offset of the residual payload's first byte

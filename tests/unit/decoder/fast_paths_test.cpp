@@ -7,14 +7,17 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/CholmodSupport>
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "decoder/segment_reconstruction.h"
 #include "decoder/synthesis_kernel.h"
 #include "dmc/operators.h"
+#include "dmc/simd.h"
 #include "dmc/wire_ids.h"
 #include "solvers/blas_threads.h"
 #include "test_support.h"
@@ -150,41 +153,72 @@ TEST(DecoderFastPaths, SynthesisEqualsBlockwiseProductPlusMean) {
   EXPECT_EQ(frames, expected);
 }
 
-// Every instruction-set variant of the kernel the CPU runs, against a sequential dot product, for
-// every group size, widths around the strip length and ranks up to the target's 60: identical
-// bits. (This file is compiled with -ffp-contract=off, tests/CMakeLists.txt, so the reference
-// sums are one multiply and one add per term too.)
+// Every SIMD variant of the kernel the CPU runs, against a sequential dot product, for every group
+// size, widths around the strip lengths (padded to the stride) and ranks up to the target's 100:
+// identical bits. (This file is compiled with -ffp-contract=off, tests/CMakeLists.txt, so the
+// reference sums are one multiply and one add per term too.)
 TEST(DecoderFastPaths, SynthesisKernelVariantsEqualSequentialDotProducts) {
-  int variants = 0;
-  for (const SynthesisIsa isa :
-       {SynthesisIsa::kBaseline, SynthesisIsa::kAvx2, SynthesisIsa::kAvx512}) {
-    if (!SynthesisIsaSupported(isa)) continue;
-    ++variants;
-    for (const int rank : {1, 2, 7, 60}) {
-      for (const std::ptrdiff_t width : {1, 3, 7, 8, 9, 16, 23, 525}) {
-        const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(width, rank);
+  const std::vector<std::string> variants = SupportedSimdVariants();
+  ASSERT_FALSE(variants.empty());
+  EXPECT_EQ(variants.back(), "baseline");
+  for (const std::string& variant : variants) {
+    for (const int rank : {1, 2, 7, 60, 100}) {
+      for (const std::ptrdiff_t width : {1, 3, 7, 8, 9, 16, 23, 33, 525}) {
+        const std::ptrdiff_t stride = (width + kSynthesisStrideMultiple - 1) /
+                                      kSynthesisStrideMultiple * kSynthesisStrideMultiple;
+        const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(stride, rank);
         const Eigen::MatrixXd coefficients = 100.0 * Eigen::MatrixXd::Random(rank, 4);
         for (int group = 1; group <= kSynthesisVertexGroup; ++group) {
           const double* rows[kSynthesisVertexGroup] = {};
           for (int i = 0; i < group; ++i) rows[i] = coefficients.col(i).data();
-          std::vector<double> sums(static_cast<size_t>(group * width), -1.0);
-          SumTrajectoryProducts(isa, rows, group, basis.data(), rank, width, sums.data());
+          std::vector<double> sums(static_cast<size_t>(group * stride), -1.0);
+          ASSERT_TRUE(SumTrajectoryProductsWith(variant.c_str(), rows, group, basis.data(), rank,
+                                                stride, sums.data()));
           std::vector<double> expected(sums.size());
           for (int i = 0; i < group; ++i) {
-            for (std::ptrdiff_t j = 0; j < width; ++j) {
+            for (std::ptrdiff_t j = 0; j < stride; ++j) {
               double sum = 0.0;
               for (int k = 0; k < rank; ++k) sum += coefficients(k, i) * basis(j, k);
-              expected[static_cast<size_t>(i * width + j)] = sum;
+              expected[static_cast<size_t>(i * stride + j)] = sum;
             }
           }
           EXPECT_EQ(std::memcmp(sums.data(), expected.data(), sums.size() * sizeof(double)), 0)
-              << "variant " << static_cast<int>(isa) << ", rank " << rank << ", width " << width
-              << ", group " << group;
+              << "variant " << variant << ", rank " << rank << ", width " << width << ", group "
+              << group;
         }
       }
     }
   }
-  EXPECT_GE(variants, 1);
+}
+
+// Forcing a variant: every supported one can be made active and synthesises the same frames; a
+// misspelt name and an instruction set the CPU lacks are told apart; "auto" restores the fastest.
+TEST(DecoderFastPaths, ForcedSimdVariantsSynthesiseIdenticalFrames) {
+  constexpr int kVertices = 37, kFrames = 11, kRank = 9;
+  const Eigen::MatrixXd coefficients = Eigen::MatrixXd::Random(kVertices, kRank);
+  const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(3 * kFrames, kRank);
+  const Eigen::VectorXd mean = Eigen::VectorXd::Random(3 * kFrames);
+  const std::vector<std::string> variants = SupportedSimdVariants();
+  std::vector<float> reference;
+  for (const std::string& variant : variants) {
+    ASSERT_TRUE(SetSimdVariant(variant).ok()) << variant;
+    EXPECT_EQ(ActiveSimdVariant(), variant);
+    std::vector<float> frames(static_cast<size_t>(kVertices) * kFrames * 3);
+    ASSERT_TRUE(SynthesizeFrames(mean, basis, coefficients, kFrames, frames.data()).ok());
+    if (reference.empty()) reference = frames;
+    EXPECT_EQ(frames, reference) << variant;
+  }
+  const Status misspelt = SetSimdVariant("avx3");
+  EXPECT_EQ(misspelt.code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(misspelt.message().find("avx512, avx2"), std::string::npos) << misspelt.message();
+  for (const char* name : {"avx512", "avx2", "sse4", "ssse3", "neon", "wasm"}) {
+    if (std::find(variants.begin(), variants.end(), name) != variants.end()) continue;
+    const Status missing = SetSimdVariant(name);
+    EXPECT_EQ(missing.code(), ErrorCode::kUnsupported) << name;
+    EXPECT_NE(missing.message().find("available: "), std::string::npos) << missing.message();
+  }
+  ASSERT_TRUE(SetSimdVariant("auto").ok());
+  EXPECT_EQ(ActiveSimdVariant(), variants.front());
 }
 
 // At the decode target's shape (rank 60, 175 frames, a partial last group and block) the frames
