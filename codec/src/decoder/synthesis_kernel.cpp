@@ -27,12 +27,13 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 // Vectors of accumulators per vertex in one strip: kGroup × kStripVectors sums stay in registers
 // for the whole loop over k, and each basis vector of the strip is loaded once per k for all the
-// group's vertices. Sixteen vector registers (SSE, AVX2, NEON) hold 4 × 2 sums, two loaded basis
-// vectors and a broadcast; AVX-512's thirty-two hold 4 × 4.
+// group's vertices. Sixteen vector registers (SSE, AVX2) hold 4 × 3 sums, three loaded basis
+// vectors and a broadcast; AVX-512's thirty-two hold 4 × 4 and more. The widths were chosen with
+// BM_StageBasisMultiply (tests/bench/README.md, "Decoder design choices").
 #if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
 constexpr int kStripVectors = 4;
 #else
-constexpr int kStripVectors = 2;
+constexpr int kStripVectors = 3;
 #endif
 
 template <int kGroup, int kVectors>
