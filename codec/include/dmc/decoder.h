@@ -68,11 +68,9 @@ class Decoder {
   // Thread-safe: segments may be decoded concurrently.
   StatusOr<MeshSequence> DecodeSegment(int index) const;
 
-  // Where a segment's frames go: called once per segment, only after every payload of the
-  // segment has decoded (while its normal matrix may still be factoring, on another thread), so a
-  // caller can defer allocating the output until the stream has proved it holds real data.
-  // Returns the segment's first float (F_s × V × 3 values). A segment whose factorisation or
-  // solve then fails is reported as failed; its frames are left unwritten.
+  // Where a segment's frames go: called once per segment, only after its syntax has been decoded
+  // and its coefficients solved, so a caller can defer allocating the output until the stream
+  // has proved it holds real data. Returns the segment's first float (F_s × V × 3 values).
   using FrameDestination = std::function<StatusOr<float*>(int segment_index)>;
   // Decodes segment `index` into the memory `destination` hands out. Thread-safe.
   Status DecodeSegmentInto(int index, const FrameDestination& destination) const;

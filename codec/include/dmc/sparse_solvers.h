@@ -64,6 +64,10 @@ class SparseSpdSolver {
   // Solves N·X = B for all columns of B (n×r) at once. kMismatch on a row-count mismatch,
   // kNumericalFailure if the result is non-finite or its residual exceeds the tolerance.
   StatusOr<Eigen::MatrixXd> Solve(const Eigen::MatrixXd& rhs) const;
+  // The same, overwriting B with X: one n×r matrix live instead of two (only the columns the
+  // residual check samples are copied). The bits are Solve's. On failure `rhs_to_solution` holds
+  // partial results.
+  Status SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const;
 
   SolverBackend backend() const;
   int size() const;
@@ -90,6 +94,11 @@ class AnchoredLaplacianSolver {
   // delta: V×r differential coordinates, anchor_values: (anchor count)×r. Returns V×r.
   StatusOr<Eigen::MatrixXd> Solve(const Eigen::MatrixXd& delta,
                                   const Eigen::MatrixXd& anchor_values) const;
+  // The same, turning `delta_to_solution` into the V×r solution in place (the right-hand side is
+  // formed column by column over it): a decoder holds one V×r matrix, not three. The bits are
+  // Solve's; on failure the matrix holds partial results.
+  Status SolveInPlace(Eigen::MatrixXd& delta_to_solution,
+                      const Eigen::MatrixXd& anchor_values) const;
 
   const std::vector<int32_t>& anchors() const { return anchors_; }
 

@@ -219,19 +219,15 @@ Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination
       syntax::ReadOperator(payload(3), topology, syntax).WithContext(where + "operator"));
   DMC_RETURN_IF_ERROR(
       syntax::ReadAnchors(payload(4), info_.vertex_count, syntax).WithContext(where + "anchors"));
-  // Two branches at once: the residuals decode, then the output is claimed (its allocation and
-  // first touch cost as much as a tenth of a decode); meanwhile the operator is rebuilt and its
-  // normal matrix factored, which does not read the residuals. The output is claimed only once
-  // every payload has decoded, so a stream rejected in its payloads costs no output memory
-  // (allocation_bound_test).
+  // The residuals decode while the operator is rebuilt and factored (the factorisation does not
+  // read them); the output is allocated only once both have succeeded, so a stream rejected in
+  // its payloads costs no output memory (allocation_bound_test).
   Status residuals;
-  StatusOr<float*> frames = InternalError("no output claimed");
   std::optional<StatusOr<AnchoredLaplacianSolver>> solver;
   tbb::parallel_invoke(
       [&] {
         residuals = syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
                         .WithContext(where + "residuals");
-        if (residuals.ok()) frames = destination(index);
       },
       [&] {
         if (syntax.header.rank == 0) return;
@@ -240,14 +236,15 @@ Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination
                                     : StatusOr<AnchoredLaplacianSolver>(laplace.status()));
       });
   DMC_RETURN_IF_ERROR(residuals);
-  DMC_RETURN_IF_ERROR(frames.status());
-  Eigen::MatrixXd coefficients(info_.vertex_count, syntax.header.rank);
+  // The deltas become the coefficients in place: one V×r matrix instead of three.
+  Eigen::MatrixXd coefficients = std::move(syntax.delta);
   if (solver) {
     DMC_RETURN_IF_ERROR(solver->status());
-    DMC_ASSIGN_OR_RETURN(coefficients, (*solver)->Solve(syntax.delta, syntax.anchor_values));
+    DMC_RETURN_IF_ERROR((*solver)->SolveInPlace(coefficients, syntax.anchor_values));
+    solver.reset();  // the factor, before the output is claimed
   }
-  syntax.delta.resize(0, 0);  // the largest syntax element, no longer needed
-  return SynthesizeFrames(syntax.mean, syntax.basis, coefficients, info.frame_count, *frames)
+  DMC_ASSIGN_OR_RETURN(float* frames, destination(index));
+  return SynthesizeFrames(syntax.mean, syntax.basis, coefficients, info.frame_count, frames)
       .WithContext(where + "frames");
 }
 
@@ -272,8 +269,8 @@ StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream) {
   Decoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Open(stream));
   const StreamInfo& info = decoder.info();
-  // The output (12·V·F bytes) is allocated only once a segment's payloads have decoded, so a
-  // tiny stream declaring a huge mesh fails before it costs that memory.
+  // The output (12·V·F bytes) is allocated only once a segment has decoded and solved, so a tiny
+  // stream declaring a huge mesh fails before it costs that memory.
   std::mutex output_mutex;
   std::optional<MeshSequence> sequence;
   auto destination = [&](int s) -> StatusOr<float*> {

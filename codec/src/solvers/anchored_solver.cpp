@@ -183,28 +183,39 @@ StatusOr<AnchoredLaplacianSolver> AnchoredLaplacianSolver::Create(const MeshTopo
 
 StatusOr<Eigen::MatrixXd> AnchoredLaplacianSolver::Solve(
     const Eigen::MatrixXd& delta, const Eigen::MatrixXd& anchor_values) const {
+  Eigen::MatrixXd solution = delta;
+  DMC_RETURN_IF_ERROR(SolveInPlace(solution, anchor_values));
+  return solution;
+}
+
+Status AnchoredLaplacianSolver::SolveInPlace(Eigen::MatrixXd& delta_to_solution,
+                                             const Eigen::MatrixXd& anchor_values) const {
   const Eigen::Index v_count = laplacian_transpose_.rows();
-  if (delta.rows() != v_count) {
-    return MismatchError("differential coordinates have " + std::to_string(delta.rows()) +
+  Eigen::MatrixXd& x = delta_to_solution;
+  if (x.rows() != v_count) {
+    return MismatchError("differential coordinates have " + std::to_string(x.rows()) +
                          " rows for " + std::to_string(v_count) + " vertices");
   }
   if (anchor_values.rows() != static_cast<Eigen::Index>(anchors_.size()) ||
-      anchor_values.cols() != delta.cols()) {
+      anchor_values.cols() != x.cols()) {
     return MismatchError("anchor values are " + std::to_string(anchor_values.rows()) + "×" +
                          std::to_string(anchor_values.cols()) + ", expected " +
-                         std::to_string(anchors_.size()) + "×" + std::to_string(delta.cols()));
+                         std::to_string(anchors_.size()) + "×" + std::to_string(x.cols()));
   }
-  // Lᵀ·Δ column by column, the columns in parallel: Eigen's sparse × dense product handles each
-  // column on its own in the same order, so this is bit for bit the one-shot product.
-  Eigen::MatrixXd rhs(v_count, delta.cols());
-  tbb::parallel_for(Eigen::Index{0}, delta.cols(), [&](Eigen::Index column) {
-    rhs.col(column).noalias() = laplacian_transpose_ * delta.col(column);
+  // Lᵀ·Δ column by column, the columns in parallel, each through one column of scratch: Eigen's
+  // sparse × dense product handles each column on its own in the same order, so this is bit for
+  // bit the one-shot product.
+  tbb::enumerable_thread_specific<Eigen::VectorXd> scratch{Eigen::VectorXd(v_count)};
+  tbb::parallel_for(Eigen::Index{0}, x.cols(), [&](Eigen::Index column) {
+    Eigen::VectorXd& product = scratch.local();
+    product.noalias() = laplacian_transpose_ * x.col(column);
+    x.col(column) = product;
   });
   const double weight_squared = anchor_weight_ * anchor_weight_;
   for (size_t k = 0; k < anchors_.size(); ++k) {
-    rhs.row(anchors_[k]) += weight_squared * anchor_values.row(static_cast<Eigen::Index>(k));
+    x.row(anchors_[k]) += weight_squared * anchor_values.row(static_cast<Eigen::Index>(k));
   }
-  return solver_.Solve(rhs);
+  return solver_.SolveInPlace(x);
 }
 
 }  // namespace dmc

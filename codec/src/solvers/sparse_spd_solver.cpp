@@ -54,7 +54,8 @@ static_assert(kSolveBlockColumns % SolverOptions::kResidualCheckSpacing == 0,
               "the residual sample is the same columns whatever the blocks");
 
 // One CHOLMOD solve of N·X = B for the columns [first, first + count) of `rhs`, written into the
-// same columns of `solution`; false when CHOLMOD fails (out of memory).
+// same columns of `solution` (which may be `rhs` itself: CHOLMOD reads B whole before returning X
+// in its own buffer); false when CHOLMOD fails (out of memory).
 bool SolveColumnBlock(cholmod_factor* factor, const Eigen::MatrixXd& rhs, Eigen::Index first,
                       Eigen::Index count, Eigen::MatrixXd& solution) {
   cholmod_common common;
@@ -222,20 +223,32 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
 }
 
 StatusOr<Eigen::MatrixXd> SparseSpdSolver::Solve(const Eigen::MatrixXd& rhs) const {
-  if (rhs.rows() != impl_->matrix.rows()) {
-    return MismatchError("right-hand side has " + std::to_string(rhs.rows()) + " rows, the " +
+  Eigen::MatrixXd solution = rhs;
+  DMC_RETURN_IF_ERROR(SolveInPlace(solution));
+  return solution;
+}
+
+Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
+  Eigen::MatrixXd& x = rhs_to_solution;
+  if (x.rows() != impl_->matrix.rows()) {
+    return MismatchError("right-hand side has " + std::to_string(x.rows()) + " rows, the " +
                          "factored matrix " + std::to_string(impl_->matrix.rows()));
   }
-  if (rhs.cols() == 0) return Eigen::MatrixXd(rhs.rows(), 0);
-  if (!rhs.allFinite()) return InvalidArgumentError("right-hand side is not finite");
-  const Eigen::Index columns = rhs.cols();
+  if (x.cols() == 0) return Status::Ok();
+  if (!x.allFinite()) return InvalidArgumentError("right-hand side is not finite");
+  const Eigen::Index columns = x.cols();
   const Eigen::Index block_count = (columns + kSolveBlockColumns - 1) / kSolveBlockColumns;
-  Eigen::MatrixXd solution(rhs.rows(), columns);
-  if (!impl_->cholmod) solution = impl_->ldlt->solve(rhs);
+  // The right-hand sides the residual check needs (SolverOptions), kept before X overwrites B.
+  constexpr Eigen::Index kSpacing = SolverOptions::kResidualCheckSpacing;
+  Eigen::MatrixXd sampled_rhs(x.rows(), (columns + kSpacing - 1) / kSpacing);
+  for (Eigen::Index s = 0; s < sampled_rhs.cols(); ++s) sampled_rhs.col(s) = x.col(s * kSpacing);
+  if (!impl_->cholmod) {
+    Eigen::MatrixXd solved = impl_->ldlt->solve(x);
+    x = std::move(solved);
+  }
 
   // Per block: solve (CHOLMOD), then the residual ‖N·x − b‖² and ‖b‖² of the block's sampled
-  // columns (SolverOptions), summed below in block order so the check does not depend on the
-  // thread count.
+  // columns, summed below in block order so the check does not depend on the thread count.
   struct BlockCheck {
     bool solved = true;
     bool finite = true;
@@ -250,21 +263,21 @@ StatusOr<Eigen::MatrixXd> SparseSpdSolver::Solve(const Eigen::MatrixXd& rhs) con
     if (impl_->cholmod) {
       ScopedSingleThreadedBlas single_threaded_blas;
       ScopedSerialOpenMp serial_open_mp;
-      check.solved = SolveColumnBlock(impl_->cholmod->factor(), rhs, first, count, solution);
+      check.solved = SolveColumnBlock(impl_->cholmod->factor(), x, first, count, x);
       if (!check.solved) return;
     }
-    const auto x = solution.middleCols(first, count);
-    check.finite = x.allFinite();
+    const auto block_solution = x.middleCols(first, count);
+    check.finite = block_solution.allFinite();
     if (!check.finite) return;
     // The self-adjoint view reads the lower triangle only, like both factorisations. Column by
     // column: Eigen's self-adjoint product on a multi-column block walks rows across columns,
     // 1.6× slower than one contiguous column at a time (10k-vertex normal matrix, 16 columns).
-    Eigen::VectorXd residual(rhs.rows());
-    for (Eigen::Index c = first; c < first + count; c += SolverOptions::kResidualCheckSpacing) {
-      residual.noalias() = impl_->matrix.selfadjointView<Eigen::Lower>() * solution.col(c);
-      residual -= rhs.col(c);
+    Eigen::VectorXd residual(x.rows());
+    for (Eigen::Index c = first; c < first + count; c += kSpacing) {
+      residual.noalias() = impl_->matrix.selfadjointView<Eigen::Lower>() * x.col(c);
+      residual -= sampled_rhs.col(c / kSpacing);
       check.residual_squared += residual.squaredNorm();
-      check.rhs_squared += rhs.col(c).squaredNorm();
+      check.rhs_squared += sampled_rhs.col(c / kSpacing).squaredNorm();
     }
   };
   if (block_count == 1) {
@@ -284,7 +297,7 @@ StatusOr<Eigen::MatrixXd> SparseSpdSolver::Solve(const Eigen::MatrixXd& rhs) con
     return NumericalFailureError("sparse solve residual " + Scientific(residual_norm / rhs_norm) +
                                  " (relative) exceeds the tolerance: matrix too ill-conditioned");
   }
-  return solution;
+  return Status::Ok();
 }
 
 }  // namespace dmc
