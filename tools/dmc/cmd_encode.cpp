@@ -26,6 +26,7 @@ struct EncodeArgs {
   std::string output;
   std::string connectivity;
   EncoderOptions options;
+  std::vector<std::string> given;  // the option table names given on the command line
   GltfReadFlags gltf;
   bool json = false;
   bool progress = false;
@@ -97,6 +98,10 @@ int RunEncode(const EncodeArgs& args) {
   if (const Status valid = ValidateOptions(options, OptionSpelling::kCliFlag); !valid.ok()) {
     return ReportError("encode", valid, args.json);
   }
+  if (const Status valid = CheckGivenSwitches(options, args.given, OptionSpelling::kCliFlag);
+      !valid.ok()) {
+    return ReportError("encode", valid, args.json);
+  }
   EncodeReport report;
   const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);
@@ -114,6 +119,7 @@ int RunEncode(const EncodeArgs& args) {
                           {"seconds", report.seconds},
                           {"breakdown", breakdown},
                           {"operator", options.operator_name},
+                          {"effort", options.effort},
                           {"rank", report.rank},
                           {"anchors", report.anchors},
                           {"segments", report.segments},
@@ -136,9 +142,9 @@ int RunEncode(const EncodeArgs& args) {
   const double scale = 8.0 / (static_cast<double>(report.frames) * report.vertices);
   fmt::print("{}: {} frames x {} vertices -> {} bytes, {:.4f} bpfv ({:.2f} s)\n", args.output,
              report.frames, report.vertices, report.bytes, report.bpfv, report.seconds);
-  fmt::print("  operator {}, rank {}, {} anchors, {} segment(s), residual step {:.4g}\n",
+  fmt::print("  operator {}, rank {}, {} anchors, {} segment(s), residual step {:.4g}, effort {}\n",
              OperatorSummary(options.operator_name, report.segment_operators), report.rank,
-             report.anchors, report.segments, report.residual_step);
+             report.anchors, report.segments, report.residual_step, options.effort);
   if (report.measured) {
     fmt::print("  KG {:.4f}  STED {:.5f} (spatial {:.5f}, temporal {:.5f})  RMSE/diag {:.3g}\n",
                report.distortion.kg, report.distortion.sted, report.distortion.sted_s,
@@ -172,6 +178,18 @@ void AddEncoderOptions(CLI::App* app, EncoderOptions& options) {
   }
 }
 
+// The table names of the encoder options given on `app`'s command line (either spelling of a
+// switch).
+std::vector<std::string> GivenEncoderOptions(const CLI::App& app) {
+  std::vector<std::string> given;
+  for (const EncoderOptionSpec& spec : EncoderOptionTable()) {
+    if (app.count(SpellOption(spec.name, OptionSpelling::kCliFlag)) > 0) {
+      given.emplace_back(spec.name);
+    }
+  }
+  return given;
+}
+
 }  // namespace
 
 Command AddEncodeCommand(CLI::App& parent) {
@@ -187,7 +205,10 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_flag("--json", args->json, "Machine-readable output");
   app->add_flag("--progress", args->progress,
                 "Show progress on stderr even when it is not a terminal");
-  return {app, [args] { return RunEncode(*args); }};
+  return {app, [args, app] {
+            args->given = GivenEncoderOptions(*app);
+            return RunEncode(*args);
+          }};
 }
 
 }  // namespace dmc::cli

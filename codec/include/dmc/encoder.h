@@ -30,7 +30,21 @@ namespace dmc {
 // a CLI flag, a Python keyword and a manifest key; a new field needs a row there too.
 struct EncoderOptions {
   std::string operator_name = "ddl";  // any codec-capable operator of the registry
-  int rank = 0;                       // PCA basis vectors per segment; 0 = automatic
+  // How hard the encoder searches each segment's rank and operator, 0..9 (like zstd's levels):
+  // 0 = one pass (the threshold's rank, the fitted DDL weights, nothing decoded to compare),
+  // 1 = the ddl fallback at the threshold's rank, 2 = the default: also the rank search, the lower
+  // ranks coded with the operator, weights and factorisation the top rank chose, candidates
+  // measured on 8 frames and those that rate alone rules out not measured; 3-7 measure on more
+  // frames and refit or retry the operators per rank; 8 = every candidate rank and operator
+  // fitted and measured on 32 frames (the search of the encoder before the levels existed: the
+  // same bytes); 9 = that search measured on every frame. rank, rank_search and ddl_fallback
+  // restrict the search at every level: a fixed rank, rank_search = false or ddl_fallback =
+  // false turn that part off whatever the effort; their defaults (automatic, true, true) leave
+  // it to the effort, which codes the fallback from kFallbackEffort and searches ranks from
+  // kRankSearchEffort up (CheckGivenSwitches, dmc/encoder_options.h). RD.md, "Effort", has each
+  // level's rate and time.
+  int effort = 2;
+  int rank = 0;  // PCA basis vectors per segment; 0 = automatic
   // Automatic rank keeps component k while its eigenvalue λ_k > rank_threshold · V · Δ² (Δ the
   // residual step): a component is worth its coefficients while dropping it would cost more
   // squared error than quantising it does.
@@ -52,12 +66,13 @@ struct EncoderOptions {
   // The ddl operator may code a segment with kirchhoff, tutte (no side information) or
   // mean-value (a coded reference frame) instead when that has the lower rate at equal STED;
   // short segments rarely pay for fitted weights. The stream names each segment's operator.
-  // false = always the fitted DDL weights.
+  // false = always the fitted DDL weights; true = as the effort decides (from kFallbackEffort).
   bool ddl_fallback = true;
   // With the ddl operator's fallback and an automatic rank: each segment is also coded at the
   // ranks of 2 and 4 times rank_threshold (when they are lower), and the rank with the lowest
   // bits · STED^0.8 (bits of the segment's payloads, STED measured as the fallback does) is kept.
-  // false = the rank of rank_threshold alone.
+  // false = the rank of rank_threshold alone; true = as the effort decides (from
+  // kRankSearchEffort).
   bool rank_search = true;
   // DDL weight prediction: false = shared in proportion to a degree-based reference weight,
   // true = shared equally (the thesis's p = (1 - Σ known)/|unknown|).
@@ -67,6 +82,12 @@ struct EncoderOptions {
   bool allow_reorder = false;  // let the output use the codec's own vertex order
   bool measure = true;         // decode and measure KG/STED
 };
+
+// The lowest effort that searches ranks (with an automatic rank, the ddl operator, rank_search and
+// ddl_fallback), and the lowest that codes the ddl operator's fallback (with ddl_fallback).
+inline constexpr int kRankSearchEffort = 2;
+inline constexpr int kFallbackEffort = 1;
+inline constexpr int kMaxEffort = 9;
 
 struct EncodeReport {
   uint64_t bytes = 0;

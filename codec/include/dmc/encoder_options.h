@@ -48,4 +48,14 @@ std::string SpellOption(std::string_view name, OptionSpelling spelling);
 Status ValidateOptions(const EncoderOptions& options,
                        OptionSpelling spelling = OptionSpelling::kName);
 
+// The rule between EncoderOptions::effort and the switches that restrict the search: false always
+// turns a search off; true (the default) leaves it to the effort. A library caller's struct
+// cannot tell a default from a choice, so the front ends pass the options their user named
+// (`given`, table names) and this refuses a switch named true that asks for a search the effort
+// does not do: kInvalidArgument for ddl_fallback below kFallbackEffort and rank_search below
+// kRankSearchEffort (spelt as `spelling`). `dmc encode` and dmc.encode() run it after
+// ValidateOptions.
+Status CheckGivenSwitches(const EncoderOptions& options, std::span<const std::string> given,
+                          OptionSpelling spelling = OptionSpelling::kName);
+
 }  // namespace dmc

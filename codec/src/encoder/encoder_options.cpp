@@ -1,5 +1,6 @@
 #include "dmc/encoder_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -18,6 +19,9 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
     return "must be in [" + std::to_string(low) + ", " + std::to_string(high) + "], got " +
            std::to_string(value);
   };
+  if (o.effort < 0 || o.effort > kMaxEffort) {
+    return bad("effort", in_range(0, kMaxEffort, o.effort));
+  }
   if (o.rank < 0 || o.rank > static_cast<int>(format::kMaxRank)) {
     return bad("rank", in_range(0, static_cast<int>(format::kMaxRank), o.rank));
   }
@@ -64,6 +68,25 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
                                 SpellOption("target_sted", spelling) + ", not both");
   }
   return CodecOperatorId(o.operator_name).status();
+}
+
+Status CheckGivenSwitches(const EncoderOptions& o, std::span<const std::string> given,
+                          OptionSpelling spelling) {
+  auto named = [&](std::string_view name) {
+    return std::find(given.begin(), given.end(), name) != given.end();
+  };
+  auto refuse = [&](std::string_view option, int from) {
+    return InvalidArgumentError(SpellOption(option, spelling) + " asks for a search that " +
+                                SpellOption("effort", spelling) + " " + std::to_string(o.effort) +
+                                " does not do (it does from " + std::to_string(from) + " up)");
+  };
+  if (o.ddl_fallback && named("ddl_fallback") && o.effort < kFallbackEffort) {
+    return refuse("ddl_fallback", kFallbackEffort);
+  }
+  if (o.rank_search && named("rank_search") && o.effort < kRankSearchEffort) {
+    return refuse("rank_search", kRankSearchEffort);
+  }
+  return Status::Ok();
 }
 
 }  // namespace dmc

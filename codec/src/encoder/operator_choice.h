@@ -6,15 +6,20 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "decoder/segment_reconstruction.h"
 #include "dmc/encoder.h"
+#include "dmc/metrics.h"
 #include "dmc/sequence.h"
+#include "dmc/sparse_solvers.h"
 #include "dmc/status.h"
 #include "dmc/topology.h"
+#include "dmc/wire_ids.h"
 #include "fitting/segment_pca.h"
 
 namespace dmc {
@@ -39,15 +44,21 @@ struct SegmentCoding {
 // frame) for the segment's coefficients: δ = L·C, quantised with target.header's step.
 using WriteResidualsFn = std::function<StatusOr<std::vector<uint8_t>>(const SegmentSyntax&)>;
 
-// The fallback's measurement frames of a segment, taken before its trajectories are released.
+// The fallback's measurement frames of a segment, taken before its trajectories are released,
+// and the meter that measures decodings of them. Not movable: the meter points to `original`.
 struct MeasuredFrames {
-  std::vector<int> frames;  // indices within the segment
-  MeshSequence original;    // those frames of the input, in codec vertex order
+  std::vector<int> frames;               // indices within the segment
+  MeshSequence original;                 // those frames of the input, in codec vertex order
+  std::optional<DistortionMeter> meter;  // none when they have no STED (e.g. all edges zero)
+
+  MeasuredFrames() = default;
+  MeasuredFrames(const MeasuredFrames&) = delete;
+  MeasuredFrames& operator=(const MeasuredFrames&) = delete;
 };
 
-// Every k-th frame of the segment (all of them up to 32 frames), in codec vertex order.
-MeasuredFrames SampleMeasuredFrames(const SegmentTrajectories& trajectories,
-                                    const Triangles& triangles);
+// Every k-th frame of the segment (all of them up to `max_frames`), in codec vertex order.
+std::unique_ptr<MeasuredFrames> SampleMeasuredFrames(const SegmentTrajectories& trajectories,
+                                                     const Triangles& triangles, int max_frames);
 
 // Fitted DDL weights cost side information (about 10 bits per vertex per segment at 2^-7); on a
 // short segment they may not pay for themselves. With options.ddl_dead_zone = 0 the encoder codes
@@ -72,12 +83,42 @@ StatusOr<SegmentCoding> ChooseDdlWeights(const std::vector<double>& fitted,
 // by the mean degree to reach a comparable distortion. Mean-value's weights come from the
 // segment's mean shape, coded as the reference frame at reference_step. Every candidate shares
 // the ddl coding's mean, basis and anchors. This is the only step that needs the segment's
-// coefficients: the caller releases them before the candidates are measured.
+// coefficients: the caller releases them before the candidates are measured. With `only`, that
+// candidate alone.
 std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& ddl_header,
                                                   const MeshTopology& topology,
                                                   const Eigen::MatrixXd& mean_shape,
                                                   double reference_step,
-                                                  const WriteResidualsFn& write_residuals);
+                                                  const WriteResidualsFn& write_residuals,
+                                                  std::optional<OperatorId> only = std::nullopt);
+
+// The normal matrix's factorisation of a measured coding, with what it was built from: a lower
+// rank coded with the same operator and weights (the anchors are the segment's) reuses it.
+struct MeasuredFactor {
+  uint8_t operator_id = 0;
+  std::vector<int64_t> edge_weights;
+  std::optional<AnchoredLaplacianSolver> solver;
+
+  bool Fits(const SegmentCoding& coding) const {
+    return solver && coding.header.operator_id == operator_id &&
+           coding.edge_weights == edge_weights;
+  }
+};
+
+// How ChooseSegmentOperator measures.
+struct OperatorChoiceOptions {
+  // Candidates whose payload bits exceed the smallest candidate's by more than kStedSlopeBits ·
+  // V · F · ln(ratio) are not measured (they would need a STED `ratio` times lower to win); 0 =
+  // every candidate measured.
+  double prune_sted_ratio = 0.0;
+  // Whether the chosen coding needs its STED (the rank search compares it); without it a sole
+  // remaining candidate is not measured.
+  bool need_sted = true;
+  // A factorisation to reuse for codings it fits (MeasuredFactor::Fits), or nullptr.
+  const MeasuredFactor* factor = nullptr;
+  // Where to keep the chosen coding's factorisation, or nullptr.
+  MeasuredFactor* keep_factor = nullptr;
+};
 
 // The ddl operator's fallback. Fitted weights are side information (about 10 bits per vertex per
 // segment) that only pays when the segment is long enough; the combinatorial operators need none
@@ -85,11 +126,13 @@ std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& d
 // candidates (CodeFallbackCandidates), each decoded as the decoder would and measured, and the
 // coding with the lowest cost bits + kStedSlopeBits · V · F · ln STED is kept (the earlier on
 // ties, so the DDL first). `shared` holds what every coding shares (mean, basis, anchors and
-// their values); codings[0] is the DDL's. The residuals of one coding at a time are decoded from
-// its payload, the decoder's own values, so only one candidate's deltas and factor exist at once.
-// A coding that cannot be measured is not chosen; when the DDL's cannot, it is kept.
+// their values); codings[0] is the DDL's when there is one. The residuals of one coding at a time
+// are decoded from its payload, the decoder's own values, so only one candidate's deltas exist
+// at once. A coding that cannot be measured is not chosen; when the first measured cannot, it is
+// kept.
 SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTopology& topology,
-                                    const std::vector<int32_t>& vertex_order, SegmentSyntax shared,
-                                    std::vector<SegmentCoding> codings);
+                                    const std::vector<int32_t>& vertex_order,
+                                    const SegmentSyntax& shared, std::vector<SegmentCoding> codings,
+                                    const OperatorChoiceOptions& choice);
 
 }  // namespace dmc

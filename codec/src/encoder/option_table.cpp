@@ -12,6 +12,12 @@ using O = EncoderOptions;
 constexpr EncoderOptionSpec kOptions[] = {
     {"operator", &O::operator_name,
      "Laplace operator: ddl, tutte, kirchhoff, cotan, cotan-area, cotan-sym, mean-value"},
+    {"effort", &O::effort,
+     "Search effort 0..9: 0 = one pass (threshold rank, fitted ddl weights), 1 = also the ddl "
+     "fallback, 2 (default) to 9 = also the rank search, each level measuring more candidates on "
+     "more frames; 8 = the exhaustive search of earlier versions, 9 = it on every frame. A fixed "
+     "rank, --no-rank-search and --no-ddl-fallback restrict every level; --rank-search or "
+     "--ddl-fallback given with a level that does not do that search is an error"},
     {"rank", &O::rank, "PCA basis vectors per segment; 0 = automatic"},
     {"rank_threshold", &O::rank_threshold,
      "Automatic rank: keep components with eigenvalue > T * V * step^2"},
@@ -31,11 +37,11 @@ constexpr EncoderOptionSpec kOptions[] = {
      "rounding, inf = predicted only, 0 = choose per segment"},
     {"ddl_fallback", &O::ddl_fallback,
      "ddl: code a segment with kirchhoff, tutte or mean-value instead when that has the lower "
-     "rate at equal STED; false = always the fitted weights"},
+     "rate at equal STED (effort >= 1); false = always the fitted weights"},
     {"rank_search", &O::rank_search,
      "ddl with its fallback and an automatic rank: also code each segment at the lower ranks of "
-     "2 and 4 times the rank threshold and keep the lowest bits * STED^0.8; false = the "
-     "threshold's rank alone"},
+     "2 and 4 times the rank threshold and keep the lowest bits * STED^0.8 (effort >= 2); false = "
+     "the threshold's rank alone"},
     {"uniform_weight_prediction", &O::uniform_weight_prediction,
      "Predict DDL weights by the thesis's uniform share, not the degree reference"},
     {"target_bpfv", &O::target_bpfv,

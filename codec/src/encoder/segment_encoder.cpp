@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <utility>
 
@@ -18,12 +19,6 @@ namespace {
 
 constexpr int kMeanStepBits = 18;  // mean trajectory step = diagonal · 2^-18
 
-// The automatic rank's candidates, as multiples of EncoderOptions::rank_threshold. Fewer
-// components are often the better trade: on crane (16 frames) at 10 residual bits, rank 3
-// instead of 4 gave 3 % fewer bits and a lower STED, since the fourth component's quantisation
-// error outweighed what it captured. With rank search the segment is coded at the rank of each
-// threshold (distinct ranks only) and the cheapest coding is kept (RD.md, "Rank search").
-constexpr double kRankThresholdScales[] = {1.0, 2.0, 4.0};
 // Ranks are compared by bits · STED^kRankStedElasticity, lowest wins. The encode ladders of samba,
 // crane and horse-gallop follow bits ∝ STED^-0.8 closely (the local slope of bpfv against ln STED
 // is about 0.8 × bpfv, from 0.2 to 1.8 bpfv), so the product is constant along a ladder and a
@@ -46,8 +41,14 @@ struct SegmentEncoder::Segment {
   Eigen::MatrixXd top_basis;     // the top rank's decoded basis
   Eigen::MatrixXd eigenvectors;  // the top rank's principal directions, for the lower ranks' bases
   Eigen::MatrixXd projected;     // V × rank, kept while a rank is still to be coded
-  std::optional<MeasuredFrames> measured;  // the fallback's measurement frames
+  std::unique_ptr<MeasuredFrames> measured;  // the fallback's measurement frames
   bool fallback = false;
+  // Without SearchPlan::refit_at_every_rank: the top rank's fitted DDL weights, for the others.
+  std::vector<double> fitted_weights;
+  // Without SearchPlan::operators_at_every_rank: the operator the top rank chose, and the
+  // factorisation its measurement made, for the lower ranks' measurements.
+  std::optional<uint8_t> chosen_operator;
+  MeasuredFactor factor;
 };
 
 // The segment coded at one rank: everything that depends on the rank, and bits ·
@@ -72,8 +73,7 @@ SegmentEncoder::SegmentEncoder(const MeshTopology& topology, const Triangles& tr
       weight_prediction_(options.uniform_weight_prediction
                              ? format::WeightPrediction::kUniform
                              : format::WeightPrediction::kReferenceProportional),
-      rank_search_(options.rank == 0 && operator_id == OperatorId::kDdl && options.ddl_fallback &&
-                   options.rank_search) {}
+      plan_(PlanSearch(options, operator_id)) {}
 
 format::SegmentHeader SegmentEncoder::BaseHeader(int first_frame, int frame_count) const {
   format::SegmentHeader h;
@@ -91,18 +91,20 @@ format::SegmentHeader SegmentEncoder::BaseHeader(int first_frame, int frame_coun
 }
 
 // An automatic rank keeps component k while λ_k > threshold · V · Δ²; with rank search, also the
-// distinct non-zero lower ranks of the larger thresholds.
+// distinct non-zero lower ranks of the larger thresholds (SearchPlan::rank_scales). Fewer
+// components are often the better trade: on crane (16 frames) at 10 residual bits, rank 3
+// instead of 4 gave 3 % fewer bits and a lower STED, since the fourth component's quantisation
+// error outweighed what it captured (RD.md, "Rank search").
 std::vector<int> SegmentEncoder::CandidateRanks(const Eigen::VectorXd& eigenvalues, int max_rank,
                                                 int vertex_count) const {
   if (options_.rank != 0) return {std::min(options_.rank, max_rank)};
   std::vector<int> ranks;
-  for (const double scale : kRankThresholdScales) {
+  for (const double scale : plan_.rank_scales) {
     const double threshold =
         scale * options_.rank_threshold * vertex_count * residual_step_ * residual_step_;
     int rank = 0;
     while (rank < max_rank && eigenvalues[rank] > threshold) ++rank;
     if (ranks.empty() || (rank < ranks.back() && rank > 0)) ranks.push_back(rank);
-    if (!rank_search_) break;
   }
   return ranks;
 }
@@ -141,8 +143,10 @@ SegmentEncoder::Segment SegmentEncoder::Prepare(SegmentTrajectories trajectories
   if (top_rank > 0) {
     segment.projected = ProjectTrajectories(trajectories, syntax.mean, syntax.basis);
   }
-  segment.fallback = top_rank > 0 && operator_id_ == OperatorId::kDdl && options_.ddl_fallback;
-  if (segment.fallback) segment.measured = SampleMeasuredFrames(trajectories, triangles_);
+  segment.fallback = top_rank > 0 && plan_.fallback;
+  if (segment.fallback) {
+    segment.measured = SampleMeasuredFrames(trajectories, triangles_, plan_.measured_frames);
+  }
   trajectories = SegmentTrajectories();
   segment.top_basis = syntax.basis;
   return segment;
@@ -156,6 +160,7 @@ StatusOr<SegmentResult> SegmentEncoder::Encode(SegmentTrajectories trajectories,
   const std::vector<int>& ranks = segment.ranks;
   auto next_rank = [&](size_t c) { return c + 1 < ranks.size() ? ranks[c + 1] : 0; };
   DMC_ASSIGN_OR_RETURN(RankCoding best, CodeAtRank(segment, ranks[0], next_rank(0)));
+  if (!plan_.operators_at_every_rank) segment.chosen_operator = best.header.operator_id;
   for (size_t c = 1; c < ranks.size(); ++c) {
     // A lower rank that cannot be coded is not chosen: the top rank's coding is complete.
     StatusOr<RankCoding> candidate = CodeAtRank(segment, ranks[c], next_rank(c));
@@ -198,7 +203,8 @@ StatusOr<SegmentEncoder::RankCoding> SegmentEncoder::CodeAtRank(Segment& segment
       syntax::WriteAnchors(segment.anchors, coefficients, syntax.header, &syntax.anchor_values);
   syntax.anchors = segment.anchors;
   if (rank > 0 && operator_id_ == OperatorId::kDdl) {
-    DMC_RETURN_IF_ERROR(CodeDdl(segment, coefficients, next_rank, coding));
+    DMC_RETURN_IF_ERROR(
+        CodeDdl(segment, coefficients, next_rank, rank == segment.ranks.front(), coding));
   } else {
     DMC_RETURN_IF_ERROR(CodeFixedOperator(segment, rank, coefficients, coding));
   }
@@ -222,53 +228,82 @@ WriteResidualsFn ResidualWriter(const MeshTopology& topology,
 
 }  // namespace
 
-// The fitted DDL weights (fitted or predicted, ChooseDdlWeights) and, with the fallback, the
-// cheapest of them and the other candidate operators (ChooseSegmentOperator).
-Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, int next_rank,
-                               RankCoding& coding) const {
+// The DDL coding: the weights fitted to these coefficients, or below the top rank without
+// SearchPlan::refit_at_every_rank the top rank's, coded (fitted or predicted, ChooseDdlWeights)
+// with the residuals they imply.
+StatusOr<SegmentCoding> SegmentEncoder::CodeDdlWeights(Segment& segment,
+                                                       Eigen::MatrixXd& coefficients,
+                                                       bool top) const {
   const WriteResidualsFn write_residuals = ResidualWriter(topology_, vertex_order_, coefficients);
-  const SegmentSyntax& syntax = segment.syntax;
-  SegmentCoding ddl;
-  {
-    OperatorOptions operator_options;
-    operator_options.ddl.mu = options_.ddl_mu;
-    // The coefficients are lent to the fit's source, not copied (the fit's factorisation is the
-    // encoder's peak), and taken back after it.
-    OperatorSource source = SourceFromTrajectories(std::move(coefficients));
-    StatusOr<LaplaceOperator> fit = FitDdlSymmetric(topology_, source, operator_options);
-    coefficients = std::move(*source.trajectories);
-    DMC_ASSIGN_OR_RETURN(const LaplaceOperator fitted, std::move(fit));
-    DMC_ASSIGN_OR_RETURN(ddl, ChooseDdlWeights(fitted.weights.values, topology_, options_,
-                                               weight_prediction_, syntax.header, write_residuals));
+  const format::SegmentHeader& header = segment.syntax.header;
+  if (!top && !plan_.refit_at_every_rank) {
+    return ChooseDdlWeights(segment.fitted_weights, topology_, options_, weight_prediction_, header,
+                            write_residuals);
   }
-  if (segment.fallback) {
-    std::vector<SegmentCoding> codings;
+  OperatorOptions operator_options;
+  operator_options.ddl.mu = options_.ddl_mu;
+  // The coefficients are lent to the fit's source, not copied (the fit's factorisation is the
+  // encoder's peak), and taken back after it.
+  OperatorSource source = SourceFromTrajectories(std::move(coefficients));
+  StatusOr<LaplaceOperator> fit = FitDdlSymmetric(topology_, source, operator_options);
+  coefficients = std::move(*source.trajectories);
+  DMC_ASSIGN_OR_RETURN(const LaplaceOperator fitted, std::move(fit));
+  if (top && !plan_.refit_at_every_rank && segment.ranks.size() > 1) {
+    segment.fitted_weights = fitted.weights.values;
+  }
+  return ChooseDdlWeights(fitted.weights.values, topology_, options_, weight_prediction_, header,
+                          write_residuals);
+}
+
+// The DDL coding (CodeDdlWeights) and, with the fallback, the cheapest of it and the other
+// candidate operators (ChooseSegmentOperator); below the top rank without
+// SearchPlan::operators_at_every_rank, the top rank's operator alone, measured with the top
+// rank's factorisation when it fits.
+Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, int next_rank,
+                               bool top, RankCoding& coding) const {
+  const SegmentSyntax& syntax = segment.syntax;
+  const std::optional<uint8_t> only = top ? std::nullopt : segment.chosen_operator;
+  std::vector<SegmentCoding> codings;
+  if (!only || *only == static_cast<uint8_t>(OperatorId::kDdl)) {
+    DMC_ASSIGN_OR_RETURN(SegmentCoding ddl, CodeDdlWeights(segment, coefficients, top));
     codings.push_back(std::move(ddl));
-    for (SegmentCoding& candidate :
-         CodeFallbackCandidates(syntax.header, topology_, segment.mean_shape,
-                                std::ldexp(diagonal_, -options_.reference_bits), write_residuals)) {
+  }
+  if (segment.fallback && (!only || *only != static_cast<uint8_t>(OperatorId::kDdl))) {
+    for (SegmentCoding& candidate : CodeFallbackCandidates(
+             syntax.header, topology_, segment.mean_shape,
+             std::ldexp(diagonal_, -options_.reference_bits),
+             ResidualWriter(topology_, vertex_order_, coefficients),
+             only ? std::optional<OperatorId>(static_cast<OperatorId>(*only)) : std::nullopt)) {
       codings.push_back(std::move(candidate));
     }
+  }
+  if (codings.empty()) return InternalError("the top rank's operator has no coding at this rank");
+  SegmentCoding chosen;
+  if (segment.fallback) {
     coefficients = Eigen::MatrixXd();
     if (next_rank == 0) segment.mean_shape = Eigen::MatrixXd();
     // The measurement takes the syntax (mean, basis, anchors) and gives nothing back.
-    SegmentSyntax shared;
-    shared.header = syntax.header;
-    shared.mean = syntax.mean;
-    shared.basis = syntax.basis;
-    shared.anchors = syntax.anchors;
-    shared.anchor_values = syntax.anchor_values;
-    ddl = ChooseSegmentOperator(*segment.measured, topology_, vertex_order_, std::move(shared),
-                                std::move(codings));
+    OperatorChoiceOptions choice;
+    choice.prune_sted_ratio = plan_.prune_sted_ratio;
+    choice.need_sted = segment.ranks.size() > 1;
+    if (!top) choice.factor = &segment.factor;
+    if (top && !plan_.operators_at_every_rank && next_rank != 0) {
+      choice.keep_factor = &segment.factor;
+    }
+    chosen = ChooseSegmentOperator(*segment.measured, topology_, vertex_order_, syntax,
+                                   std::move(codings), choice);
+    if (next_rank == 0) segment.factor = MeasuredFactor();
+  } else {
+    chosen = std::move(codings.front());
   }
-  coding.header = ddl.header;
-  coding.operator_payload = std::move(ddl.operator_payload);
-  coding.residual_payload = std::move(ddl.residual_payload);
+  coding.header = chosen.header;
+  coding.operator_payload = std::move(chosen.operator_payload);
+  coding.residual_payload = std::move(chosen.residual_payload);
   const size_t bytes = segment.mean_payload.size() + coding.basis_payload.size() +
                        coding.anchor_payload.size() + coding.operator_payload.size() +
                        coding.residual_payload.size();
   coding.cost = std::log(8.0 * static_cast<double>(bytes)) +
-                kRankStedElasticity * std::log(std::max(ddl.sted, 1e-300));
+                kRankStedElasticity * std::log(std::max(chosen.sted, 1e-300));
   return Status::Ok();
 }
 

@@ -11,6 +11,8 @@
 #include "dmc/encoder.h"
 #include "dmc/topology.h"
 #include "dmc/wire_ids.h"
+#include "encoder/operator_choice.h"
+#include "encoder/search_plan.h"
 #include "entropy/byte_io.h"
 #include "fitting/segment_pca.h"
 
@@ -50,10 +52,12 @@ class SegmentEncoder {
   format::SegmentHeader BaseHeader(int first_frame, int frame_count) const;
   std::vector<int> CandidateRanks(const Eigen::VectorXd& eigenvalues, int max_rank,
                                   int vertex_count) const;
+  StatusOr<SegmentCoding> CodeDdlWeights(Segment& segment, Eigen::MatrixXd& coefficients,
+                                         bool top) const;
   Segment Prepare(SegmentTrajectories trajectories, int first_frame) const;
   StatusOr<RankCoding> CodeAtRank(Segment& segment, int rank, int next_rank) const;
   Eigen::MatrixXd SolveCoefficients(Segment& segment, int rank, int next_rank) const;
-  Status CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, int next_rank,
+  Status CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, int next_rank, bool top,
                  RankCoding& coding) const;
   Status CodeFixedOperator(Segment& segment, int rank, const Eigen::MatrixXd& coefficients,
                            RankCoding& coding) const;
@@ -68,7 +72,7 @@ class SegmentEncoder {
   double diagonal_;
   double residual_step_;
   format::WeightPrediction weight_prediction_;
-  bool rank_search_;  // automatic rank, ddl, fallback and EncoderOptions::rank_search
+  SearchPlan plan_;  // EncoderOptions::effort and the switches that restrict it
 };
 
 }  // namespace dmc

@@ -1,0 +1,178 @@
+// EncoderOptions::effort: every level encodes a stream the decoder reads, the levels search more
+// as they rise, the exhaustive level is the search every encode ran before the levels existed,
+// the bytes do not depend on the thread count at any level, and an effort out of range or a
+// switch the effort would not honour is refused with a message naming the option.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "dmc/decoder.h"
+#include "dmc/encoder.h"
+#include "dmc/encoder_options.h"
+#include "dmc/synth.h"
+
+namespace dmc {
+namespace {
+
+// Two segments of 12 frames, so segments are encoded concurrently as well as searched.
+MeshSequence Walker() {
+  SynthOptions options;
+  options.frames = 24;
+  options.resolution = 1200;
+  return *Synthesize("walker", options);
+}
+
+EncoderOptions AtEffort(int effort) {
+  EncoderOptions options;
+  options.effort = effort;
+  options.segment_frames = 12;
+  return options;
+}
+
+TEST(Effort, EveryLevelEncodesAStreamTheDecoderReads) {
+  const MeshSequence original = Walker();
+  for (int effort = 0; effort <= kMaxEffort; ++effort) {
+    EncodeReport report;
+    auto bytes = Encode(original, AtEffort(effort), &report);
+    ASSERT_TRUE(bytes.ok()) << "effort " << effort << ": " << bytes.status().ToString();
+    ASSERT_TRUE(report.measured);
+    auto decoded = Decode(*bytes);
+    ASSERT_TRUE(decoded.ok()) << "effort " << effort << ": " << decoded.status().ToString();
+    EXPECT_EQ(decoded->frame_count(), original.frame_count());
+    EXPECT_EQ(decoded->vertex_count(), original.vertex_count());
+    auto measured = MeasureDistortion(original, *decoded);
+    ASSERT_TRUE(measured.ok());
+    // The report is the decoder's output measured: the same at every level.
+    EXPECT_DOUBLE_EQ(measured->sted, report.distortion.sted) << "effort " << effort;
+    EXPECT_LT(report.distortion.sted, 0.2) << "effort " << effort;
+  }
+}
+
+// The default rank and operator switches leave the search to the effort; turning them off gives
+// the one-pass encode at every level.
+TEST(Effort, SwitchesOffGiveTheOnePassAtEveryLevel) {
+  const MeshSequence original = Walker();
+  auto one_pass = Encode(original, AtEffort(0));
+  ASSERT_TRUE(one_pass.ok());
+  for (const int effort : {1, 5, kMaxEffort}) {
+    EncoderOptions options = AtEffort(effort);
+    options.ddl_fallback = false;
+    auto bytes = Encode(original, options);
+    ASSERT_TRUE(bytes.ok());
+    EXPECT_EQ(*bytes, *one_pass) << "effort " << effort;
+  }
+  // Effort 0 with the switches' defaults is the one pass with them off.
+  EncoderOptions off = AtEffort(0);
+  off.rank_search = false;
+  off.ddl_fallback = false;
+  auto explicit_off = Encode(original, off);
+  ASSERT_TRUE(explicit_off.ok());
+  EXPECT_EQ(*explicit_off, *one_pass);
+}
+
+// Below kRankSearchEffort the rank is the threshold's; rank_search = false gives the same bytes
+// there, and at every level for a fixed rank.
+TEST(Effort, NoRankSearchBelowItsLevelNorForAFixedRank) {
+  const MeshSequence original = Walker();
+  for (int effort = 0; effort < kRankSearchEffort; ++effort) {
+    EncoderOptions options = AtEffort(effort);
+    auto searched = Encode(original, options);
+    options.rank_search = false;
+    auto plain = Encode(original, options);
+    ASSERT_TRUE(searched.ok() && plain.ok());
+    EXPECT_EQ(*searched, *plain) << "effort " << effort;
+  }
+  for (const int effort : {kRankSearchEffort, 5, kMaxEffort}) {
+    EncoderOptions options = AtEffort(effort);
+    options.rank = 4;
+    auto searched = Encode(original, options);
+    options.rank_search = false;
+    auto plain = Encode(original, options);
+    ASSERT_TRUE(searched.ok() && plain.ok());
+    EXPECT_EQ(*searched, *plain) << "effort " << effort;
+  }
+}
+
+TEST(Effort, BytesDoNotDependOnTheThreadCount) {
+  const MeshSequence original = Walker();
+  for (const int effort : {0, 2, 5, 8, 9}) {
+    EncoderOptions options = AtEffort(effort);
+    options.measure = false;
+    std::vector<uint8_t> bytes[2];
+    for (const int threads : {1, 2}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      auto encoded = Encode(original, options);
+      ASSERT_TRUE(encoded.ok()) << encoded.status().ToString();
+      bytes[threads - 1] = std::move(encoded).value();
+    }
+    EXPECT_EQ(bytes[0], bytes[1]) << "effort " << effort;
+  }
+}
+
+// Cost rises with the level, loosely: the one pass is the cheapest and the exhaustive search
+// the dearest (the minimum of three encodes each, so that a busy machine does not decide).
+TEST(Effort, CostRisesWithTheLevel) {
+  const MeshSequence original = Walker();
+  auto seconds = [&](int effort) {
+    double best = 1e300;
+    for (int run = 0; run < 3; ++run) {
+      EncoderOptions options = AtEffort(effort);
+      options.measure = false;
+      const auto start = std::chrono::steady_clock::now();
+      EXPECT_TRUE(Encode(original, options).ok());
+      best = std::min(
+          best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    return best;
+  };
+  const double one_pass = seconds(0), default_level = seconds(EncoderOptions().effort),
+               exhaustive = seconds(8);
+  EXPECT_LT(one_pass, default_level);
+  EXPECT_LT(default_level, exhaustive);
+  EXPECT_LT(exhaustive, 1.5 * seconds(kMaxEffort));
+}
+
+TEST(Effort, OutOfRangeIsRefusedNamingTheOption) {
+  const MeshSequence original = Walker();
+  for (const int effort : {-1, kMaxEffort + 1}) {
+    EncoderOptions options;
+    options.effort = effort;
+    const Status status = ValidateOptions(options);
+    EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+    EXPECT_EQ(status.message(), "effort must be in [0, 9], got " + std::to_string(effort));
+    EXPECT_EQ(ValidateOptions(options, OptionSpelling::kCliFlag).message(),
+              "--effort must be in [0, 9], got " + std::to_string(effort));
+    EXPECT_EQ(Encode(original, options).status().code(), ErrorCode::kInvalidArgument);
+  }
+}
+
+// A switch the caller named true asks for a search; below its level that is an error, not a
+// silently ignored request. Named false, or not named, it is never an error.
+TEST(Effort, NamedSwitchesTheLevelWouldIgnoreAreRefused) {
+  EncoderOptions options;
+  options.effort = 0;
+  const std::vector<std::string> both = {"rank_search", "ddl_fallback"};
+  const Status fallback = CheckGivenSwitches(options, both);
+  EXPECT_EQ(fallback.code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(fallback.message(),
+            "ddl_fallback asks for a search that effort 0 does not do (it does from 1 up)");
+  options.effort = kRankSearchEffort - 1;
+  const Status rank = CheckGivenSwitches(options, both, OptionSpelling::kCliFlag);
+  EXPECT_EQ(rank.message(), "--rank-search asks for a search that --effort " +
+                                std::to_string(kRankSearchEffort - 1) +
+                                " does not do (it does from " + std::to_string(kRankSearchEffort) +
+                                " up)");
+  options.effort = kRankSearchEffort;
+  EXPECT_TRUE(CheckGivenSwitches(options, both).ok());
+  options.effort = 0;
+  EXPECT_TRUE(CheckGivenSwitches(options, {}).ok());
+  options.rank_search = false;
+  options.ddl_fallback = false;
+  EXPECT_TRUE(CheckGivenSwitches(options, both).ok());
+}
+
+}  // namespace
+}  // namespace dmc
