@@ -67,7 +67,7 @@ auto WithStream(const py::handle& data, Work work) {
   return work(view.bytes());
 }
 
-py::dict ReportToDict(const EncodeReport& report, const std::string& operator_name) {
+py::dict ReportToDict(const EncodeReport& report, const EncoderOptions& options) {
   py::dict breakdown;
   breakdown["header"] = report.header_bytes;
   breakdown["connectivity"] = report.connectivity_bytes;
@@ -83,7 +83,8 @@ py::dict ReportToDict(const EncodeReport& report, const std::string& operator_na
   out["vertices"] = report.vertices;
   out["seconds"] = report.seconds;
   out["breakdown"] = breakdown;
-  out["operator"] = operator_name;
+  out["operator"] = options.operator_name;
+  out["effort"] = options.effort;
   out["rank"] = report.rank;
   out["anchors"] = report.anchors;
   out["segments"] = report.segments;
@@ -156,7 +157,7 @@ py::object EncodeBinding(const py::handle& frames, const py::handle& faces,
   }
   py::bytes stream(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (!return_report) return stream;
-  return py::make_tuple(std::move(stream), ReportToDict(report, options.operator_name));
+  return py::make_tuple(std::move(stream), ReportToDict(report, options));
 }
 
 // "    name: help." wrapped at 100 columns, continuation lines indented as the other entries.
@@ -267,6 +268,7 @@ py::object EncodeKeywords(const py::handle& frames, const py::handle& faces,
   std::string name;
   double frame_rate = 0.0;
   bool return_report = false;
+  std::vector<std::string> given;
   for (const auto& [key, value] : keywords) {
     const std::string keyword = key.cast<std::string>();
     if (keyword == "name") {
@@ -282,10 +284,14 @@ py::object EncodeKeywords(const py::handle& frames, const py::handle& faces,
             options.*field = KeywordValue<T>(keyword, value);
           },
           spec->field);
+      given.push_back(keyword);
     } else {
       throw py::type_error("encode() got an unexpected keyword argument '" + keyword + "'");
     }
   }
+  // A switch named True that the effort would not honour is an error, not ignored (the encoder
+  // checks the rest).
+  if (ValidateOptions(options).ok()) ThrowIfError(CheckGivenSwitches(options, given));
   // Without a report nobody sees the measurement, so it is skipped.
   options.measure = options.measure && return_report;
   return EncodeBinding(frames, faces, options, name, frame_rate, return_report);

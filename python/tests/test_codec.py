@@ -170,6 +170,40 @@ class OptionTableTest(unittest.TestCase):
                 self.assertIn("--no-" + option["flag"][2:], help_text)
 
 
+class EffortTest(unittest.TestCase):
+    """effort= is EncoderOptions::effort: every level round-trips, a bad level or a switch the level
+    would not honour is an error naming the keyword, and the report says which level ran."""
+
+    def setUp(self):
+        self.frames, self.faces = support.small_animation()
+
+    def test_every_level_round_trips_and_is_reported(self):
+        for effort in range(10):
+            stream, report = dmc.encode(self.frames, self.faces, effort=effort, return_report=True)
+            self.assertEqual(report["effort"], effort)
+            frames, _ = dmc.decode(stream)
+            self.assertEqual(frames.shape, self.frames.shape)
+        self.assertEqual(dmc.encode(self.frames, self.faces),
+                         dmc.encode(self.frames, self.faces, effort=2))
+
+    def test_out_of_range_is_refused(self):
+        for effort in (-1, 10):
+            with self.assertRaisesRegex(dmc.Error, r"effort must be in \[0, 9\]"):
+                dmc.encode(self.frames, self.faces, effort=effort)
+
+    def test_a_switch_the_level_does_not_do_is_refused_not_ignored(self):
+        with self.assertRaisesRegex(dmc.Error, "rank_search asks for a search that effort 1"):
+            dmc.encode(self.frames, self.faces, effort=1, rank_search=True)
+        with self.assertRaisesRegex(dmc.Error, "ddl_fallback asks for a search that effort 0"):
+            dmc.encode(self.frames, self.faces, effort=0, ddl_fallback=True)
+        # Named False it restricts any level; effort 0 is then the same one pass.
+        self.assertEqual(dmc.encode(self.frames, self.faces, effort=0, rank_search=False,
+                                    ddl_fallback=False),
+                         dmc.encode(self.frames, self.faces, effort=0))
+        self.assertEqual(dmc.encode(self.frames, self.faces, effort=9, ddl_fallback=False),
+                         dmc.encode(self.frames, self.faces, effort=0))
+
+
 @support.require_cli
 class CliEqualityTest(unittest.TestCase):
     """Python and `dmc encode` give byte-identical streams for the same sequence and options."""
@@ -258,7 +292,7 @@ class CliEqualityTest(unittest.TestCase):
         _, report = dmc.encode(frames, faces, name=meta["name"], frame_rate=meta["frame_rate"],
                                return_report=True)
         for key in ("bytes", "bpfv", "breakdown", "rank", "anchors", "segments", "residual_step",
-                    "kg", "sted", "sted_s", "sted_t", "rmse_rel", "max_error"):
+                    "effort", "kg", "sted", "sted_s", "sted_t", "rmse_rel", "max_error"):
             self.assertEqual(report[key], cli[key], key)
 
     def test_info_equals_cli_info(self):
