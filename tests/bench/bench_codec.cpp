@@ -90,6 +90,7 @@ void BM_DecodeTarget(benchmark::State& state) {
   const dmc::MeshSequence& sequence = TargetSequence();
   const auto bytes = *dmc::Encode(sequence, TargetOptions(static_cast<int>(state.range(0))));
   double cpu_seconds = 0.0;
+  dmc::bench::PeakMemory memory;
   for (auto _ : state) {
     const dmc::bench::ProcessClock clock;
     auto decoded = dmc::Decode(bytes);
@@ -102,6 +103,7 @@ void BM_DecodeTarget(benchmark::State& state) {
       8.0 * static_cast<double>(bytes.size()) / (sequence.frame_count() * sequence.vertex_count());
   state.counters["raw_MB"] = 12.0 * sequence.frame_count() * sequence.vertex_count() / 1e6;
   dmc::bench::SetVertexFrameCounters(state, sequence);
+  memory.Report(state);
   dmc::bench::LabelSimdVariant(state);
 }
 const bool kDecodeTargetRegistered = [] {
