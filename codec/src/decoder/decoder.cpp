@@ -220,8 +220,9 @@ Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination
   DMC_RETURN_IF_ERROR(
       syntax::ReadAnchors(payload(4), info_.vertex_count, syntax).WithContext(where + "anchors"));
   // The residuals decode while the operator is rebuilt and factored (the factorisation does not
-  // read them); the output is allocated only once both have succeeded, so a stream rejected in
-  // its payloads costs no output memory (allocation_bound_test).
+  // read them; on real captures the two take similar time). A stream rejected in its residuals
+  // therefore pays a factorisation, whose memory grows with V only; the output is claimed after
+  // the solve, so such a stream costs no output memory (allocation_bound_test).
   Status residuals;
   std::optional<StatusOr<AnchoredLaplacianSolver>> solver;
   tbb::parallel_invoke(
