@@ -18,7 +18,7 @@ struct SearchPlan {
   // lowest rate at equal STED (operator_choice.h).
   bool fallback = false;
   // With several ranks: every candidate operator at every rank, or (false) only the operator the
-  // top rank chose, whose factorisation then serves every lower rank.
+  // top rank chose, whose factorisation then serves every lower rank (unless refitted).
   bool operators_at_every_rank = false;
   // With several ranks: a DDL fit at every rank, or (false) the top rank's fitted weights for
   // the lower ranks too (a lower rank's coefficients are nearly the top rank's first columns).

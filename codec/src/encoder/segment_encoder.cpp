@@ -45,8 +45,8 @@ struct SegmentEncoder::Segment {
   bool fallback = false;
   // Without SearchPlan::refit_at_every_rank: the top rank's fitted DDL weights, for the others.
   std::vector<double> fitted_weights;
-  // Without SearchPlan::operators_at_every_rank: the operator the top rank chose, and the
-  // factorisation its measurement made, for the lower ranks' measurements.
+  // Without SearchPlan::operators_at_every_rank: the operator the top rank chose, and (without
+  // refit_at_every_rank) the factorisation its measurement made, for the lower ranks'.
   std::optional<uint8_t> chosen_operator;
   MeasuredFactor factor;
 };
@@ -287,7 +287,9 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
     choice.prune_sted_ratio = plan_.prune_sted_ratio;
     choice.need_sted = segment.ranks.size() > 1;
     if (!top) choice.factor = &segment.factor;
-    if (top && !plan_.operators_at_every_rank && next_rank != 0) {
+    // Refitted weights differ per rank, so only the fallback's operators could reuse it: not
+    // worth its memory beside the next fit.
+    if (top && !plan_.operators_at_every_rank && !plan_.refit_at_every_rank && next_rank != 0) {
       choice.keep_factor = &segment.factor;
     }
     chosen = ChooseSegmentOperator(*segment.measured, topology_, vertex_order_, syntax,
