@@ -2,6 +2,7 @@
 
 import os
 import pathlib
+import subprocess
 import tempfile
 import threading
 import time
@@ -216,6 +217,8 @@ class CliEqualityTest(unittest.TestCase):
          "allow_reorder": True, "rank_threshold": 5.0},
         {"ddl_fallback": False, "residual_bits": 9},
         {"ddl_dead_zone": 0.0, "weight_bits": 5, "residual_step": 0.01, "rank_search": False},
+        {"effort": 0},
+        {"effort": 8, "residual_bits": 11},
     ]
 
     @classmethod
@@ -274,6 +277,16 @@ class CliEqualityTest(unittest.TestCase):
             self.assertEqual(plain, stream.read())
         self.assertLess(dmc.info(searched)["segments"][0]["rank"],
                         dmc.info(plain)["segments"][0]["rank"])
+
+    def test_cli_refuses_a_switch_the_effort_does_not_do_as_python_does(self):
+        output = os.path.join(self.scratch.name, "refused.dmc")
+        result = subprocess.run([support.CLI, "encode", self.input, "-o", output, "--effort", "1",
+                                 "--rank-search"], capture_output=True, text=True, check=False)
+        self.assertNotEqual(result.returncode, 0)
+        self.assertIn("--rank-search asks for a search that --effort 1 does not do", result.stderr)
+        self.assertFalse(os.path.exists(output))
+        with self.assertRaisesRegex(dmc.Error, "rank_search asks for a search that effort 1"):
+            dmc.encode(self.frames, self.faces, effort=1, rank_search=True)
 
     def test_decode_equals_cli_decode(self):
         stream_path = os.path.join(self.scratch.name, "decode.dmc")
