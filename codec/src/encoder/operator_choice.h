@@ -93,7 +93,8 @@ std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& d
                                                   std::optional<OperatorId> only = std::nullopt);
 
 // The normal matrix's factorisation of a measured coding, with what it was built from: a lower
-// rank coded with the same operator and weights (the anchors are the segment's) reuses it.
+// rank coded with the same operator and weights reuses it (the anchors, and mean-value's
+// reference frame, the segment's mean shape, are the same at every rank).
 struct MeasuredFactor {
   uint8_t operator_id = 0;
   std::vector<int64_t> edge_weights;

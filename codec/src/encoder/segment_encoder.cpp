@@ -282,7 +282,7 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
   if (segment.fallback) {
     coefficients = Eigen::MatrixXd();
     if (next_rank == 0) segment.mean_shape = Eigen::MatrixXd();
-    // The measurement takes the syntax (mean, basis, anchors) and gives nothing back.
+    // The measurement reads the syntax's mean, basis and anchors; rank search needs the STED.
     OperatorChoiceOptions choice;
     choice.prune_sted_ratio = plan_.prune_sted_ratio;
     choice.need_sted = segment.ranks.size() > 1;
