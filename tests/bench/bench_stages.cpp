@@ -144,13 +144,6 @@ const StageFixture& Fixture(const benchmark::State& state) {
   return *slot;
 }
 
-// The solver settings the decoder uses (ReconstructCoefficients): its fill-reducing ordering.
-SolverOptions DecoderSolverOptions(const MeshTopology& topology) {
-  SolverOptions options;
-  options.ordering = NormalMatrixOrdering(topology.vertex_count);
-  return options;
-}
-
 void StageCounters(benchmark::State& state, const StageFixture& s, const PeakMemory& memory) {
   SetVertexFrameCounters(state, *s.sequence);
   state.counters["rank"] = static_cast<double>(s.syntax.header.rank);
@@ -242,9 +235,7 @@ void BM_StageFactorisation(benchmark::State& state) {
   const StageFixture& s = Fixture(state);
   PeakMemory memory;
   for (auto _ : state) {
-    auto solver = AnchoredLaplacianSolver::Create(s.topology, s.laplace.matrix, s.syntax.anchors,
-                                                  s.syntax.header.anchor_weight,
-                                                  DecoderSolverOptions(s.topology));
+    auto solver = FactorSegmentOperator(s.topology, s.laplace, s.syntax);
     if (!solver.ok()) state.SkipWithError(solver.status().ToString().c_str());
     benchmark::DoNotOptimize(solver);
   }
@@ -253,9 +244,7 @@ void BM_StageFactorisation(benchmark::State& state) {
 
 void BM_StageSolve(benchmark::State& state) {
   const StageFixture& s = Fixture(state);
-  auto solver = AnchoredLaplacianSolver::Create(s.topology, s.laplace.matrix, s.syntax.anchors,
-                                                s.syntax.header.anchor_weight,
-                                                DecoderSolverOptions(s.topology));
+  auto solver = FactorSegmentOperator(s.topology, s.laplace, s.syntax);
   if (!solver.ok()) {
     state.SkipWithError(solver.status().ToString().c_str());
     return;

@@ -1,6 +1,6 @@
-// DMC_SIMD through the built binary: every variant this CPU runs decodes and encodes the same
-// bytes as the default one; a variant the CPU lacks, and a misspelt name, fail before any work
-// with the exit code and message of their error.
+// DMC_SIMD through the built binary: every variant this CPU runs is the one in use (--version)
+// and decodes and encodes the same bytes as the default one; a variant the CPU lacks, and a
+// misspelt name, fail before any work with the exit code and message of their error.
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
@@ -56,6 +56,8 @@ TEST(SimdCli, EveryAvailableVariantGivesTheSameBytes) {
       continue;
     }
     ++available;
+    const CliResult version = RunDmc("--version");
+    EXPECT_NE(version.out.find("SIMD variant " + variant + ";"), std::string::npos) << version.out;
     EXPECT_EQ(FileBytes(stream), FileBytes(reference_stream)) << variant;
     ASSERT_EQ(RunDmc("decode " + Quoted(stream) + " -o " + Quoted(frames)).exit_code, 0);
     EXPECT_EQ(FileBytes(frames), FileBytes(reference_frames)) << variant;

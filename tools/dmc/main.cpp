@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "commands.h"
@@ -14,9 +15,22 @@ int main(int argc, char** argv) {
   // buffers come from the heap and stay resident: the encoder's trajectories then inflated its
   // peak RSS (10k x 175 walker: 93 -> 81 MB with the fixed threshold, same time).
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // DMC_SIMD forces a SIMD variant of frame synthesis (dmc/simd.h): the output is the same, the
+  // speed is that variant's. --version reports the one in use.
+  if (const dmc::Status simd = dmc::SetSimdVariantFromEnvironment(); !simd.ok()) {
+    std::fprintf(stderr, "error: %s\n", simd.ToString().c_str());
+    return dmc::ExitCodeFor(simd.code());
+  }
   CLI::App app{"dmc: compress, decode, measure and process dynamic meshes"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "dmc 0.1.0");
+  app.set_version_flag("--version", [] {
+    std::string supported;
+    for (const std::string& variant : dmc::SupportedSimdVariants()) {
+      supported += (supported.empty() ? "" : ", ") + variant;
+    }
+    return "dmc 0.1.0 (SIMD variant " + dmc::ActiveSimdVariant() + "; this CPU runs " + supported +
+           ")";
+  });
 
   using AddCommand = dmc::cli::Command (*)(CLI::App&);
   // The subcommand table, in the order --help lists them.
@@ -35,12 +49,6 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; every usage error exits 1, the code status.h reserves for it
     // (errors of the codec itself exit 10 + their ErrorCode).
     return app.exit(error) == 0 ? 0 : 1;
-  }
-  // DMC_SIMD forces a SIMD variant of frame synthesis (dmc/simd.h): the output is the same, the
-  // speed is that variant's.
-  if (const dmc::Status simd = dmc::SetSimdVariantFromEnvironment(); !simd.ok()) {
-    std::fprintf(stderr, "error: %s\n", simd.ToString().c_str());
-    return dmc::ExitCodeFor(simd.code());
   }
   for (const auto& command : commands) {
     if (command.app->parsed()) return command.run();

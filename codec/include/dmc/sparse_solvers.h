@@ -43,11 +43,12 @@ struct SolverOptions {
   // component) lands near 1e-16 while real Laplacian normal matrices stay far above.
   double min_pivot_ratio = 1e-13;
   // A solve is rejected when X is non-finite, or when ‖N·x − b‖ > max_relative_residual × ‖b‖
-  // summed (squared) over a sample of the columns: the first of every kResidualCheckSpacing.
-  // An ill-conditioned N spoils every column alike, and checking all of them cost a fifth of a
-  // 100-column solve.
+  // summed (squared) over the columns whose index is a multiple of residual_check_spacing (1:
+  // every column). The codec's normal matrices check one column in 16 (FactorSegmentOperator):
+  // there the check guards against a factor spoilt by ill-conditioning, which shows in the
+  // leading PCA columns as much as in any, and checking all r columns cost a fifth of the solve.
   double max_relative_residual = 1e-6;
-  static constexpr int kResidualCheckSpacing = 16;
+  int residual_check_spacing = 1;
 };
 
 // Factorisation of a symmetric positive definite sparse matrix, reused for many right-hand
@@ -64,9 +65,9 @@ class SparseSpdSolver {
   // Solves N·X = B for all columns of B (n×r) at once. kMismatch on a row-count mismatch,
   // kNumericalFailure if the result is non-finite or its residual exceeds the tolerance.
   StatusOr<Eigen::MatrixXd> Solve(const Eigen::MatrixXd& rhs) const;
-  // The same, overwriting B with X: one n×r matrix live instead of two (only the columns the
-  // residual check samples are copied). The bits are Solve's. On failure `rhs_to_solution` holds
-  // partial results.
+  // The same, overwriting B with X: with CHOLMOD one n×r matrix live instead of two (only the
+  // columns the residual check samples are copied). The bits are Solve's. On failure
+  // `rhs_to_solution` holds partial results.
   Status SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const;
 
   SolverBackend backend() const;

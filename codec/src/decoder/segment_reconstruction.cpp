@@ -51,16 +51,9 @@ StatusOr<AnchoredLaplacianSolver> FactorSegmentOperator(const MeshTopology& topo
                                                         const SegmentSyntax& syntax) {
   SolverOptions options;
   options.ordering = NormalMatrixOrdering(topology.vertex_count);
+  options.residual_check_spacing = kNormalMatrixResidualCheckSpacing;
   return AnchoredLaplacianSolver::Create(topology, laplace.matrix, syntax.anchors,
                                          syntax.header.anchor_weight, options);
-}
-
-StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
-                                                  const LaplaceOperator& laplace,
-                                                  const SegmentSyntax& syntax) {
-  DMC_ASSIGN_OR_RETURN(const AnchoredLaplacianSolver solver,
-                       FactorSegmentOperator(topology, laplace, syntax));
-  return solver.Solve(syntax.delta, syntax.anchor_values);
 }
 
 Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basis,

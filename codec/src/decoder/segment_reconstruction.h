@@ -37,17 +37,16 @@ StatusOr<LaplaceOperator> RebuildSegmentOperator(const MeshTopology& topology,
 inline constexpr int kNormalMatrixNestedDissectionThreshold = 300000;
 SolverOrdering NormalMatrixOrdering(int vertex_count);
 
+// The residual check of the coefficient solves samples one column in this many (SolverOptions);
+// the encoder's closed loop factors through the same function, so both sides accept alike.
+inline constexpr int kNormalMatrixResidualCheckSpacing = 16;
+
 // Factors the segment's normal matrix LᵀL + anchors (ordered by NormalMatrixOrdering): needs the
 // operator, the anchors and the header, not the deltas, so a decoder can factor while the
 // residuals are still being decoded.
 StatusOr<AnchoredLaplacianSolver> FactorSegmentOperator(const MeshTopology& topology,
                                                         const LaplaceOperator& laplace,
                                                         const SegmentSyntax& syntax);
-
-// Solves for the V×r coefficients from the operator, deltas and anchors (factor once, solve r).
-StatusOr<Eigen::MatrixXd> ReconstructCoefficients(const MeshTopology& topology,
-                                                  const LaplaceOperator& laplace,
-                                                  const SegmentSyntax& syntax);
 
 // positions(v, 3f + axis) = mean(3f + axis) + Σ_k C(v, k) basis(3f + axis, k), written as float
 // frames into `frames` (frame_count × V × 3, frame after frame). kCorruptStream when a position is

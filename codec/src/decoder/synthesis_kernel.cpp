@@ -5,25 +5,42 @@
 // multiply and the add.
 
 // Every attainable target, the portable baseline included, so each can be forced and tested on
-// one machine. SVE and RVV vectors are sizeless and cannot be held in the arrays below.
+// one machine. Not: SVE and RVV, whose vectors are sizeless and cannot be held in the arrays
+// below; WebAssembly SIMD and 32-bit NEON, which have no binary64 vectors in this Highway (a
+// WebAssembly or ARMv7 build runs the baseline).
+#include <hwy/detect_compiler_arch.h>
 #ifndef HWY_COMPILE_ALL_ATTAINABLE
 #define HWY_COMPILE_ALL_ATTAINABLE
 #endif
+#if HWY_ARCH_ARM_V7
+#define DMC_NO_FLOAT64_NEON HWY_NEON
+#else
+#define DMC_NO_FLOAT64_NEON 0
+#endif
 #ifndef HWY_DISABLED_TARGETS
-#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV)
+#define HWY_DISABLED_TARGETS                                                                \
+  (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV | HWY_WASM | HWY_WASM_EMU256 | \
+   DMC_NO_FLOAT64_NEON)
 #endif
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "decoder/synthesis_kernel.cpp"
-#include "decoder/synthesis_kernel.h"
-
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
+
+#include "decoder/synthesis_kernel.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace dmc {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+
+// A build that sets HWY_DISABLED_TARGETS itself must still leave out the targets above.
+#if !HWY_HAVE_FLOAT64 || HWY_HAVE_SCALABLE
+#error "synthesis_kernel.cpp: this Highway target lacks binary64 or fixed-size vectors"
+#endif
+static_assert(kSynthesisStrideMultiple * sizeof(double) % HWY_MAX_BYTES == 0,
+              "a padded stride must be a whole number of this target's vectors");
 
 // Vectors of accumulators per vertex in one strip: kGroup × kStripVectors sums stay in registers
 // for the whole loop over k, and each basis vector of the strip is loaded once per k for all the
@@ -136,9 +153,6 @@ constexpr SimdVariant kVariants[] = {
 #if HWY_TARGETS & HWY_NEON
     {"neon", HWY_NEON, &N_NEON::SumTrajectoryProducts},
 #endif
-#if HWY_TARGETS & HWY_WASM
-    {"wasm", HWY_WASM, &N_WASM::SumTrajectoryProducts},
-#endif
 #if HWY_TARGETS & HWY_EMU128
     {"baseline", HWY_EMU128, &N_EMU128::SumTrajectoryProducts},
 #elif HWY_TARGETS & HWY_SCALAR
@@ -148,8 +162,11 @@ constexpr SimdVariant kVariants[] = {
 constexpr int kVariantCount = static_cast<int>(sizeof(kVariants) / sizeof(kVariants[0]));
 
 bool Supported(const SimdVariant& variant) {
-  return variant.target == HWY_EMU128 || variant.target == HWY_SCALAR ||
-         (hwy::SupportedTargets() & variant.target) != 0;
+  if (variant.target == HWY_EMU128 || variant.target == HWY_SCALAR) return true;
+  // Every 64-bit Arm CPU has NEON; this Highway reports it only with the AES extension, which
+  // the kernel does not use.
+  if (HWY_ARCH_ARM_A64 && variant.target == HWY_NEON) return true;
+  return (hwy::SupportedTargets() & variant.target) != 0;
 }
 
 int FastestSupported() {
@@ -172,16 +189,16 @@ std::atomic<int> active_variant{-1};
 const SimdVariant& Active() {
   int v = active_variant.load(std::memory_order_relaxed);
   if (v < 0) {
-    v = FastestSupported();
-    active_variant.store(v, std::memory_order_relaxed);
+    // A SetSimdVariant racing with the first use wins.
+    const int fastest = FastestSupported();
+    v = active_variant.compare_exchange_strong(v, fastest, std::memory_order_relaxed) ? fastest : v;
   }
   return kVariants[v];
 }
 
 // Every name a build may have, so a misspelt name and a missing instruction set get different
 // errors.
-constexpr std::string_view kKnownNames[] = {"avx512", "avx2", "sse4",    "ssse3",
-                                            "neon",   "wasm", "baseline"};
+constexpr std::string_view kKnownNames[] = {"avx512", "avx2", "sse4", "ssse3", "neon", "baseline"};
 
 std::string JoinedNames(const std::vector<std::string>& names) {
   std::string joined;

@@ -32,7 +32,7 @@ Matrix SampledFrameRows(const Matrix& rows, const std::vector<int>& frames) {
 }
 
 // STED of the measured frames as the decoder rebuilds them from `syntax`, against the originals.
-// The decoder's steps (ReconstructCoefficients's factor and solve, then the synthesis), each
+// The decoder's steps (FactorSegmentOperator, the solve, then the synthesis), each
 // buffer released as soon as the next step no longer needs it: the deltas once solved, the
 // operator once factored, and the decoded frames allocated only after the solve (the
 // factorisation and the solve's right-hand sides are the peak). `factor` is used when it fits the
@@ -45,11 +45,7 @@ StatusOr<double> ReconstructedSted(const MeasuredFrames& measured, const MeshTop
   std::optional<AnchoredLaplacianSolver> made;
   if (factor == nullptr) {
     DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
-    SolverOptions options;
-    options.ordering = NormalMatrixOrdering(topology.vertex_count);
-    DMC_ASSIGN_OR_RETURN(made,
-                         AnchoredLaplacianSolver::Create(topology, laplace.matrix, syntax.anchors,
-                                                         syntax.header.anchor_weight, options));
+    DMC_ASSIGN_OR_RETURN(made, FactorSegmentOperator(topology, laplace, syntax));
     factor = &*made;
   }
   DMC_ASSIGN_OR_RETURN(Eigen::MatrixXd coefficients,

@@ -50,8 +50,6 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lowe
 // 8, 16 reproduce the one-shot solve bit for bit, widths 1, 2, 3 and 7 differ by up to 2e-15.
 // tests/unit/decoder/fast_paths_test.cpp guards it. Fewer than 2 blocks: no task overhead.
 constexpr Eigen::Index kSolveBlockColumns = 16;
-static_assert(kSolveBlockColumns % SolverOptions::kResidualCheckSpacing == 0,
-              "the residual sample is the same columns whatever the blocks");
 
 // One CHOLMOD solve of N·X = B for the columns [first, first + count) of `rhs`, written into the
 // same columns of `solution` (which may be `rhs` itself: CHOLMOD reads B whole before returning X
@@ -173,6 +171,10 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
       }
     }
   }
+  if (options.residual_check_spacing < 1) {
+    return InvalidArgumentError("residual_check_spacing must be at least 1, got " +
+                                std::to_string(options.residual_check_spacing));
+  }
   auto impl = std::make_unique<Impl>();
   impl->matrix = matrix;
   impl->matrix.makeCompressed();
@@ -239,9 +241,9 @@ Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
   const Eigen::Index columns = x.cols();
   const Eigen::Index block_count = (columns + kSolveBlockColumns - 1) / kSolveBlockColumns;
   // The right-hand sides the residual check needs (SolverOptions), kept before X overwrites B.
-  constexpr Eigen::Index kSpacing = SolverOptions::kResidualCheckSpacing;
-  Eigen::MatrixXd sampled_rhs(x.rows(), (columns + kSpacing - 1) / kSpacing);
-  for (Eigen::Index s = 0; s < sampled_rhs.cols(); ++s) sampled_rhs.col(s) = x.col(s * kSpacing);
+  const Eigen::Index spacing = impl_->options.residual_check_spacing;
+  Eigen::MatrixXd sampled_rhs(x.rows(), (columns + spacing - 1) / spacing);
+  for (Eigen::Index s = 0; s < sampled_rhs.cols(); ++s) sampled_rhs.col(s) = x.col(s * spacing);
   if (!impl_->cholmod) {
     Eigen::MatrixXd solved = impl_->ldlt->solve(x);
     x = std::move(solved);
@@ -273,11 +275,12 @@ Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
     // column: Eigen's self-adjoint product on a multi-column block walks rows across columns,
     // 1.6× slower than one contiguous column at a time (10k-vertex normal matrix, 16 columns).
     Eigen::VectorXd residual(x.rows());
-    for (Eigen::Index c = first; c < first + count; c += kSpacing) {
+    for (Eigen::Index c = (first + spacing - 1) / spacing * spacing; c < first + count;
+         c += spacing) {
       residual.noalias() = impl_->matrix.selfadjointView<Eigen::Lower>() * x.col(c);
-      residual -= sampled_rhs.col(c / kSpacing);
+      residual -= sampled_rhs.col(c / spacing);
       check.residual_squared += residual.squaredNorm();
-      check.rhs_squared += sampled_rhs.col(c / kSpacing).squaredNorm();
+      check.rhs_squared += sampled_rhs.col(c / spacing).squaredNorm();
     }
   };
   if (block_count == 1) {

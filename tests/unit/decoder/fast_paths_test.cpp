@@ -5,6 +5,7 @@
 // conversion it replaced.
 #include <dlfcn.h>
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include <Eigen/CholmodSupport>
 #include <algorithm>
@@ -191,9 +192,19 @@ TEST(DecoderFastPaths, SynthesisKernelVariantsEqualSequentialDotProducts) {
   }
 }
 
+// Restores the fastest variant (and the real CPU's instruction sets) however a test ends.
+class ScopedSimdVariantReset {
+ public:
+  ~ScopedSimdVariantReset() {
+    hwy::SetSupportedTargetsForTest(0);
+    EXPECT_TRUE(SetSimdVariant("auto").ok());
+  }
+};
+
 // Forcing a variant: every supported one can be made active and synthesises the same frames; a
 // misspelt name and an instruction set the CPU lacks are told apart; "auto" restores the fastest.
 TEST(DecoderFastPaths, ForcedSimdVariantsSynthesiseIdenticalFrames) {
+  const ScopedSimdVariantReset reset;
   constexpr int kVertices = 37, kFrames = 11, kRank = 9;
   const Eigen::MatrixXd coefficients = Eigen::MatrixXd::Random(kVertices, kRank);
   const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(3 * kFrames, kRank);
@@ -208,10 +219,12 @@ TEST(DecoderFastPaths, ForcedSimdVariantsSynthesiseIdenticalFrames) {
     if (reference.empty()) reference = frames;
     EXPECT_EQ(frames, reference) << variant;
   }
-  const Status misspelt = SetSimdVariant("avx3");
-  EXPECT_EQ(misspelt.code(), ErrorCode::kInvalidArgument);
-  EXPECT_NE(misspelt.message().find("avx512, avx2"), std::string::npos) << misspelt.message();
-  for (const char* name : {"avx512", "avx2", "sse4", "ssse3", "neon", "wasm"}) {
+  for (const char* misspelt : {"avx3", "wasm", "AVX2", ""}) {
+    const Status status = SetSimdVariant(misspelt);
+    EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument) << misspelt;
+    EXPECT_NE(status.message().find("avx512, avx2"), std::string::npos) << status.message();
+  }
+  for (const char* name : {"avx512", "avx2", "sse4", "ssse3", "neon"}) {
     if (std::find(variants.begin(), variants.end(), name) != variants.end()) continue;
     const Status missing = SetSimdVariant(name);
     EXPECT_EQ(missing.code(), ErrorCode::kUnsupported) << name;
@@ -220,6 +233,32 @@ TEST(DecoderFastPaths, ForcedSimdVariantsSynthesiseIdenticalFrames) {
   ASSERT_TRUE(SetSimdVariant("auto").ok());
   EXPECT_EQ(ActiveSimdVariant(), variants.front());
 }
+
+#if HWY_ARCH_X86
+// A CPU with SSE4 and no AVX (Highway's CPU detection mocked): the fastest variant is sse4, avx2
+// and avx512 are refused as unavailable, and the variants that remain give the same bits.
+TEST(DecoderFastPaths, SimdVariantsOfACpuWithoutAvx) {
+  const ScopedSimdVariantReset reset;
+  hwy::SetSupportedTargetsForTest(HWY_SSE4 | HWY_SSSE3 | HWY_EMU128 | HWY_SCALAR);
+  ASSERT_TRUE(SetSimdVariant("auto").ok());
+  EXPECT_EQ(ActiveSimdVariant(), "sse4");
+  EXPECT_EQ(SupportedSimdVariants(), (std::vector<std::string>{"sse4", "ssse3", "baseline"}));
+  for (const char* name : {"avx2", "avx512"}) {
+    EXPECT_EQ(SetSimdVariant(name).code(), ErrorCode::kUnsupported) << name;
+  }
+  const Eigen::MatrixXd basis = Eigen::MatrixXd::Random(kSynthesisStrideMultiple * 3, 5);
+  const Eigen::MatrixXd coefficients = Eigen::MatrixXd::Random(5, 1);
+  const double* rows[1] = {coefficients.data()};
+  std::vector<double> sse4(basis.rows()), baseline(basis.rows());
+  ASSERT_TRUE(
+      SumTrajectoryProductsWith("sse4", rows, 1, basis.data(), 5, basis.rows(), sse4.data()));
+  ASSERT_TRUE(SumTrajectoryProductsWith("baseline", rows, 1, basis.data(), 5, basis.rows(),
+                                        baseline.data()));
+  EXPECT_FALSE(
+      SumTrajectoryProductsWith("avx2", rows, 1, basis.data(), 5, basis.rows(), sse4.data()));
+  EXPECT_EQ(sse4, baseline);
+}
+#endif
 
 // At the decode target's shape (rank 60, 175 frames, a partial last group and block) the frames
 // are still those of the blockwise Eigen product the decoder used before the kernel.

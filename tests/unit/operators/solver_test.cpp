@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <thread>
 #include <vector>
 
@@ -55,6 +56,35 @@ TEST_P(SolverBackends, SolvesManyRightHandSidesOfANormalMatrix) {
   const auto solved = solver->Solve(normal * x);
   ASSERT_TRUE(solved.ok()) << solved.status().ToString();
   EXPECT_LE((*solved - x).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+// In place and sampled: SolveInPlace gives Solve's bits over several column blocks, and checking
+// one residual column in 16 changes the check only, not the solution.
+TEST_P(SolverBackends, SolveInPlaceAndSampledResidualCheckKeepTheBits) {
+  const MeshSequence sphere = testing::Icosphere(3);
+  const MeshTopology topo = BuildTopology(sphere.triangles(), sphere.vertex_count());
+  const auto tutte = BuildTutte(topo);
+  ASSERT_TRUE(tutte.ok());
+  const std::vector<int32_t> anchors = {0, 17, 300};
+  const SparseMatrixD normal = BuildNormalMatrix(tutte->matrix, anchors);
+  const Eigen::MatrixXd rhs = Eigen::MatrixXd::NullaryExpr(
+      topo.vertex_count, 37,
+      [](Eigen::Index r, Eigen::Index c) { return std::sin(0.05 * r * (c + 1)) + 0.01 * c; });
+  const auto every_column = SparseSpdSolver::Factor(normal, Options());
+  SolverOptions sampled_options = Options();
+  sampled_options.residual_check_spacing = 16;
+  const auto sampled = SparseSpdSolver::Factor(normal, sampled_options);
+  ASSERT_TRUE(every_column.ok() && sampled.ok());
+  const auto solved = every_column->Solve(rhs);
+  ASSERT_TRUE(solved.ok()) << solved.status().ToString();
+  Eigen::MatrixXd in_place = rhs;
+  ASSERT_TRUE(sampled->SolveInPlace(in_place).ok());
+  EXPECT_EQ(std::memcmp(in_place.data(), solved->data(), sizeof(double) * rhs.size()), 0);
+  EXPECT_LE((normal * in_place - rhs).cwiseAbs().maxCoeff(), 1e-8);
+
+  sampled_options.residual_check_spacing = 0;
+  EXPECT_EQ(SparseSpdSolver::Factor(normal, sampled_options).status().code(),
+            ErrorCode::kInvalidArgument);
 }
 
 TEST_P(SolverBackends, RejectsASingularNormalMatrixInsteadOfReturningGarbage) {
