@@ -62,11 +62,12 @@ std::string CommandLine(const SweepArgs& args) {
   }
   std::string line = fmt::format(
       "dmc sweep {} -o {} --operators {} --baselines {} --points {} --min-residual-bits {:g} "
-      "--max-residual-bits {:g} --basis-bits {} --min-baseline-bits {} --max-baseline-bits {} "
-      "--sted-targets {}",
+      "--max-residual-bits {:g} --basis-bits {} --effort {} --min-baseline-bits {} "
+      "--max-baseline-bits {} --sted-targets {}",
       args.input, args.output, args.operators.empty() ? "none" : Join(args.operators),
       args.baselines.empty() ? "none" : Join(args.baselines), o.points, o.min_residual_bits,
-      o.max_residual_bits, o.basis_bits, o.min_baseline_bits, o.max_baseline_bits, targets);
+      o.max_residual_bits, o.basis_bits, o.effort, o.min_baseline_bits, o.max_baseline_bits,
+      targets);
   if (args.max_frames > 0) line += fmt::format(" --max-frames {}", args.max_frames);
   if (!args.connectivity.empty()) line += " --connectivity " + args.connectivity;
   const GltfReadOptions& gltf = args.gltf.options;
@@ -248,6 +249,10 @@ Command AddSweepCommand(CLI::App& parent) {
       ->capture_default_str();
   app->add_option("--basis-bits", o.basis_bits,
                   "dmc basis quantisation bits (0 = clamp(residual bits, 10, 16) per rung)")
+      ->capture_default_str();
+  app->add_option("--effort", o.effort,
+                  "dmc encoder search effort 0..9 (as dmc encode --effort; 8 = the exhaustive "
+                  "search of earlier versions)")
       ->capture_default_str();
   app->add_option("--min-baseline-bits", o.min_baseline_bits,
                   "Baselines: coarsest position quantisation bits")

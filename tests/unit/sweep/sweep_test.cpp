@@ -68,6 +68,9 @@ TEST(ValidateSweepOptions, NamesTheBadField) {
   options.basis_bits = 1;
   EXPECT_THAT(message(options), HasSubstr("--basis-bits"));
   options = SweepOptions();
+  options.effort = 10;
+  EXPECT_THAT(message(options), HasSubstr("--effort"));
+  options = SweepOptions();
   options.max_baseline_bits = 17;
   EXPECT_THAT(message(options), HasSubstr("baseline bits"));
   options = SweepOptions();
@@ -130,6 +133,31 @@ TEST(RunSweep, PointsAreWhatASeparateEncodeDecodeAndMeasureGives) {
   ASSERT_TRUE(report.measured);
   EXPECT_DOUBLE_EQ(report.distortion.kg, middle.kg);
   EXPECT_DOUBLE_EQ(report.distortion.sted, middle.sted);
+}
+
+// The encoder's effort reaches every dmc rung: a rung is what `dmc encode --effort` gives.
+TEST(RunSweep, RungsAreEncodedAtTheRequestedEffort) {
+  for (const int effort : {0, 8}) {
+    SweepOptions options;
+    options.operators = {"ddl"};
+    options.baselines.clear();
+    options.points = 2;
+    options.effort = effort;
+    const StatusOr<SweepResult> result =
+        RunSweep(Walker(), options, [](const RdPoint*, const std::string&, int, int) {});
+    ASSERT_TRUE(result.ok()) << result.status().ToString();
+    ASSERT_EQ(result->points.size(), 2u);
+    const RdPoint& coarse = result->points[0];
+    EncoderOptions encoder_options;
+    encoder_options.effort = effort;
+    encoder_options.residual_step =
+        std::max(ComputeBoundingBox(Walker()).diagonal(), 1e-12) * std::exp2(-coarse.residual_bits);
+    encoder_options.basis_bits = coarse.basis_bits;
+    encoder_options.measure = false;
+    const StatusOr<std::vector<uint8_t>> bytes = Encode(Walker(), encoder_options);
+    ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
+    EXPECT_EQ(bytes->size(), coarse.bytes) << "effort " << effort;
+  }
 }
 
 TEST(RunSweep, UnknownOperatorFailsBeforeAnyWork) {

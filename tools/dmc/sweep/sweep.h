@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "dmc/encoder.h"
 #include "dmc/metrics.h"
 #include "dmc/sequence.h"
 #include "dmc/status.h"
@@ -56,15 +57,17 @@ struct SweepOptions {
   int points = 8;  // rungs per curve, ≥ 2
   double min_residual_bits = 5.0;
   double max_residual_bits = 16.0;
-  int basis_bits = 0;  // 0: follow the rung (BasisBitsFor), else fixed (2..16)
+  int basis_bits = 0;                    // 0: follow the rung (BasisBitsFor), else fixed (2..16)
+  int effort = EncoderOptions().effort;  // the dmc encoder's search effort, 0..kMaxEffort
   int min_baseline_bits = 8;
   int max_baseline_bits = 16;
   StedOptions sted;
 };
 
 // kInvalidArgument naming the first bad field: points < 2, residual bits outside [1, 30] or
-// min > max, basis_bits not 0 or in [2, 16], baseline bits outside [kMinBaselineBits,
-// kMaxBaselineBits] or min > max, no operator and no baseline, invalid STED options.
+// min > max, basis_bits not 0 or in [2, 16], effort outside [0, kMaxEffort], baseline bits outside
+// [kMinBaselineBits, kMaxBaselineBits] or min > max, no operator and no baseline, invalid STED
+// options.
 Status ValidateSweepOptions(const SweepOptions& options);
 
 // The rungs of the dmc ladder (fractional bits, increasing).
