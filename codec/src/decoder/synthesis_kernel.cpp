@@ -46,7 +46,7 @@ static_assert(kSynthesisStrideMultiple * sizeof(double) % HWY_MAX_BYTES == 0,
 // for the whole loop over k, and each basis vector of the strip is loaded once per k for all the
 // group's vertices. Sixteen vector registers (SSE, AVX2) hold 4 × 3 sums, three loaded basis
 // vectors and a broadcast; AVX-512's thirty-two hold 4 × 4 and more. The widths were chosen with
-// BM_StageBasisMultiply (tests/bench/README.md, "Decoder design choices").
+// BM_StageBasisMultiply (tests/bench/README.md, "SIMD variants").
 #if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
 constexpr int kStripVectors = 4;
 #else
