@@ -15,7 +15,7 @@ int ReportError(std::string_view command, const Status& status, bool json) {
                              {{"code", static_cast<int>(status.code())},
                               {"name", std::string(ErrorCodeName(status.code()))},
                               {"message", status.message()}}}};
-    std::cout << error.dump(2) << std::endl;
+    std::cout << JsonText(error) << std::endl;
   }
   std::cerr << "dmc " << command << ": error: " << status.ToString() << std::endl;
   return ExitCodeFor(status.code());
@@ -25,7 +25,11 @@ void ReportWarning(std::string_view command, std::string_view text) {
   std::cerr << "dmc " << command << ": warning: " << text << std::endl;
 }
 
-void PrintJson(const nlohmann::json& document) { std::cout << document.dump(2) << std::endl; }
+std::string JsonText(const nlohmann::json& document) {
+  return document.dump(2, ' ', /*ensure_ascii=*/false, nlohmann::json::error_handler_t::replace);
+}
+
+void PrintJson(const nlohmann::json& document) { std::cout << JsonText(document) << std::endl; }
 
 namespace {
 

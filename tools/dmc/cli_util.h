@@ -22,7 +22,12 @@ int ReportError(std::string_view command, const Status& status, bool json = fals
 // Prints warnings to stderr as `dmc <command>: warning: <text>`.
 void ReportWarning(std::string_view command, std::string_view text);
 
-// Pretty-prints a JSON document on stdout.
+// `document` as indented JSON text. Strings that are not UTF-8 (a stream's name is bytes, a file
+// name or an OBJ line can hold any byte) have their invalid bytes replaced by U+FFFD instead of
+// nlohmann's type_error aborting the command.
+std::string JsonText(const nlohmann::json& document);
+
+// Pretty-prints a JSON document on stdout (JsonText).
 void PrintJson(const nlohmann::json& document);
 
 // Progress on stderr ("\r<label>  42%", a newline when destroyed), only when stderr is a terminal

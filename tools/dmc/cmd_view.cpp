@@ -240,7 +240,7 @@ int RunView(const ViewArgs& args) {
     metrics["original"] = std::filesystem::path(args.original).filename().string();
     metrics["distortion"] = std::move(measured).value();
   }
-  files["/data/metrics.json"] = {"application/json", metrics.dump()};
+  files["/data/metrics.json"] = {"application/json", JsonText(metrics)};
 
   const int listener = ::socket(AF_INET, SOCK_STREAM, 0);
   if (listener < 0) return ReportError("view", IoError("cannot create a socket"), args.json);

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "io/gltf_format.h"
+#include "io/utf8_text.h"
 
 namespace dmc::io_internal {
 namespace {
@@ -181,7 +182,7 @@ tinygltf::Model MorphModel(const MeshSequence& sequence, double frame_rate) {
                                  {"NORMAL", builder.AddFloats(normals, TINYGLTF_TYPE_VEC3)}});
   }
   tinygltf::Mesh mesh;
-  mesh.name = sequence.name.empty() ? "dmc" : sequence.name;
+  mesh.name = sequence.name.empty() ? "dmc" : ReplaceInvalidUtf8(sequence.name);
   mesh.primitives.push_back(primitive);
   mesh.weights.assign(static_cast<size_t>(frame_count - 1), 0.0);
   tinygltf::Model& model = builder.model();
@@ -217,7 +218,7 @@ tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate) {
   ModelBuilder builder;
   const int frame_count = sequence.frame_count();
   const int indices = builder.AddIndices(sequence.triangles(), sequence.vertex_count());
-  const std::string name = sequence.name.empty() ? "dmc" : sequence.name;
+  const std::string name = sequence.name.empty() ? "dmc" : ReplaceInvalidUtf8(sequence.name);
   tinygltf::Node root;
   root.name = name;
   std::vector<tinygltf::Node> frame_nodes;
