@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 namespace dmc::cli {
@@ -30,6 +31,27 @@ std::string JsonText(const nlohmann::json& document) {
 }
 
 void PrintJson(const nlohmann::json& document) { std::cout << JsonText(document) << std::endl; }
+
+Status RefuseOutputThatIsAnInput(const std::string& output, const std::string& input,
+                                 const std::string& connectivity) {
+  namespace fs = std::filesystem;
+  const auto beside_obj = [](const std::string& path) {
+    return IsPc2Path(path) ? fs::path(path).replace_extension(".obj").string() : std::string();
+  };
+  const std::string written[] = {output, beside_obj(output)};
+  const std::string read[] = {input, connectivity.empty() ? beside_obj(input) : connectivity};
+  for (const std::string& out : written) {
+    for (const std::string& in : read) {
+      std::error_code error;
+      if (!out.empty() && !in.empty() && fs::equivalent(out, in, error)) {
+        return InvalidArgumentError("output " + out + " is the input " + in +
+                                    ": writing it would replace what is being read; choose "
+                                    "another output path");
+      }
+    }
+  }
+  return Status::Ok();
+}
 
 namespace {
 

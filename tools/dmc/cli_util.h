@@ -27,6 +27,14 @@ void ReportWarning(std::string_view command, std::string_view text);
 // nlohmann's type_error aborting the command.
 std::string JsonText(const nlohmann::json& document);
 
+// kInvalidArgument when a file the command would write is a file it reads: `output` (and, for a
+// .pc2 output, the .obj connectivity written beside it) against `input` (and, for a .pc2 input,
+// `connectivity` or the .obj beside it), compared as files (std::filesystem::equivalent), so a
+// link or another spelling of the path is caught too. Checked before any reading, so nothing is
+// lost.
+Status RefuseOutputThatIsAnInput(const std::string& output, const std::string& input,
+                                 const std::string& connectivity = "");
+
 // Pretty-prints a JSON document on stdout (JsonText).
 void PrintJson(const nlohmann::json& document);
 

@@ -31,6 +31,10 @@ int RunConvert(const ConvertArgs& args) {
       progress->Update(done);
     };
   };
+  if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input, args.connectivity);
+      !distinct.ok()) {
+    return ReportError("convert", distinct, args.json);
+  }
   ReadOptions read_options;
   read_options.connectivity = args.connectivity;
   read_options.max_frames = args.max_frames;

@@ -24,6 +24,9 @@ struct DecodeArgs {
 };
 
 int RunDecode(const DecodeArgs& args) {
+  if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input); !distinct.ok()) {
+    return ReportError("decode", distinct, args.json);
+  }
   auto bytes = ReadFileBytes(args.input);
   if (!bytes.ok()) return ReportError("decode", bytes.status(), args.json);
   std::optional<Progress> progress;

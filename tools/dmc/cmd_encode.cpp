@@ -102,6 +102,10 @@ int RunEncode(const EncodeArgs& args) {
       !valid.ok()) {
     return ReportError("encode", valid, args.json);
   }
+  if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input, args.connectivity);
+      !distinct.ok()) {
+    return ReportError("encode", distinct, args.json);
+  }
   EncodeReport report;
   const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);
