@@ -35,11 +35,18 @@ void PrintJson(const nlohmann::json& document) { std::cout << JsonText(document)
 Status RefuseOutputThatIsAnInput(const std::string& output, const std::string& input,
                                  const std::string& connectivity) {
   namespace fs = std::filesystem;
-  const auto beside_obj = [](const std::string& path) {
-    return IsPc2Path(path) ? fs::path(path).replace_extension(".obj").string() : std::string();
-  };
-  const std::string written[] = {output, beside_obj(output)};
-  const std::string read[] = {input, connectivity.empty() ? beside_obj(input) : connectivity};
+  // A .pc2 output is written with <stem>.obj beside it (WriteSequence); a .pc2 input reads the
+  // connectivity named, or the one FindPc2Connectivity finds.
+  const std::string written_mesh =
+      IsPc2Path(output) ? fs::path(output).replace_extension(".obj").string() : std::string();
+  std::string read_mesh = connectivity;
+  if (read_mesh.empty() && IsPc2Path(input)) {
+    if (const StatusOr<fs::path> found = FindPc2Connectivity(input); found.ok()) {
+      read_mesh = found->string();
+    }
+  }
+  const std::string written[] = {output, written_mesh};
+  const std::string read[] = {input, read_mesh};
   for (const std::string& out : written) {
     for (const std::string& in : read) {
       std::error_code error;

@@ -120,6 +120,11 @@ struct WriteOptions {
 Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output,
                      const WriteOptions& options = {});
 
+// The connectivity mesh of a PC2 cache when none is named (ReadOptions::connectivity empty): the
+// first of <stem>.obj, <stem>.off, <stem>.ply beside it that exists, the rule ReadSequence and
+// the streaming encoder follow; kIoError suggesting --connectivity when none does.
+StatusOr<std::filesystem::path> FindPc2Connectivity(const std::filesystem::path& cache);
+
 // Natural order of file names: runs of digits compare by numeric value ("2" < "10"), everything
 // else byte by byte; names that only differ in leading zeros ("007" vs "7") fall back to plain
 // byte order. A strict total order on distinct strings, usable with std::sort.

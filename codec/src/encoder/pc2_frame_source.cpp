@@ -58,7 +58,7 @@ StatusOr<std::unique_ptr<FrameSource>> OpenPc2FrameSource(const std::filesystem:
                        io_internal::Pc2FrameReader::Open(cache));
   std::filesystem::path mesh_path = connectivity;
   if (mesh_path.empty()) {
-    DMC_ASSIGN_OR_RETURN(mesh_path, io_internal::FindPc2Connectivity(cache));
+    DMC_ASSIGN_OR_RETURN(mesh_path, FindPc2Connectivity(cache));
   }
   // The mesh as a one-frame sequence: triangles checked against its vertex count, warnings
   // (fan triangulation, degenerate triangles) worded as ReadSequence words them.

@@ -12,6 +12,7 @@
 #include <system_error>
 #include <utility>
 
+#include "dmc/io.h"
 #include "io/file_ops.h"
 #include "io/mesh_formats.h"
 
@@ -234,6 +235,10 @@ Status Pc2PairWriter::Commit() {
   return cache_.Commit();
 }
 
+}  // namespace dmc::io_internal
+
+namespace dmc {
+
 StatusOr<std::filesystem::path> FindPc2Connectivity(const std::filesystem::path& cache) {
   for (const char* extension : {".obj", ".off", ".ply"}) {
     std::filesystem::path candidate = cache;
@@ -247,4 +252,4 @@ StatusOr<std::filesystem::path> FindPc2Connectivity(const std::filesystem::path&
                  " (or .off/.ply) does not exist; name one with --connectivity");
 }
 
-}  // namespace dmc::io_internal
+}  // namespace dmc

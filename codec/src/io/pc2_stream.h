@@ -127,9 +127,4 @@ class Pc2PairWriter {
   std::vector<uint8_t> scratch_;  // little-endian bytes of the frames being appended
 };
 
-// The connectivity mesh of a cache when none is named: the first of <stem>.obj, <stem>.off,
-// <stem>.ply beside it that exists (kIoError suggesting --connectivity otherwise), the same rule
-// as ReadSequence's.
-StatusOr<std::filesystem::path> FindPc2Connectivity(const std::filesystem::path& cache);
-
 }  // namespace dmc::io_internal

@@ -270,7 +270,7 @@ StatusOr<MeshSequence> ReadPc2(const std::filesystem::path& cache, const ReadOpt
   const io_internal::Pc2Header& header = reader.header();
   std::filesystem::path connectivity = options.connectivity;
   if (connectivity.empty()) {
-    DMC_ASSIGN_OR_RETURN(connectivity, io_internal::FindPc2Connectivity(cache));
+    DMC_ASSIGN_OR_RETURN(connectivity, FindPc2Connectivity(cache));
   }
   DMC_ASSIGN_OR_RETURN(const MeshFileData mesh, io_internal::ReadMeshFile(connectivity));
   if (mesh.vertex_count() != header.point_count) {
