@@ -12,7 +12,7 @@ namespace {
 
 // The highest pinned code; dmc::ErrorCode values are dense from 0 to here (wire_ids.h freezes
 // them), so the Python enum is built by counting.
-constexpr int kLastErrorCode = static_cast<int>(ErrorCode::kInternal);
+constexpr int kLastErrorCode = static_cast<int>(ErrorCode::kResourceLimit);
 
 // dmc.Error is a Python class (so it pickles, prints and subclasses like any exception); the
 // translator below only instantiates it.

@@ -30,6 +30,7 @@ enum class ErrorCode : int {
   kNumericalFailure = 9,  // a factorisation or solve failed (singular, non-finite)
   kNotFound = 10,         // an unknown name or ID (operator, method, generator)
   kInternal = 11,         // a broken internal invariant: a bug in dmc
+  kResourceLimit = 12,    // the work or memory a request needs exceeds a limit (or memory ran out)
 };
 
 // Stable lower-case name of a code, e.g. "invalid-argument".
@@ -73,6 +74,7 @@ Status TruncatedStreamError(std::string message);
 Status NumericalFailureError(std::string message);
 Status NotFoundError(std::string message);
 Status InternalError(std::string message);
+Status ResourceLimitError(std::string message);
 
 // Either a value or a non-OK Status. Constructing from an OK Status is a bug (becomes kInternal).
 template <typename T>

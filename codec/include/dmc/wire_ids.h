@@ -80,6 +80,7 @@ static_assert(static_cast<int>(ErrorCode::kTruncatedStream) == 8);
 static_assert(static_cast<int>(ErrorCode::kNumericalFailure) == 9);
 static_assert(static_cast<int>(ErrorCode::kNotFound) == 10);
 static_assert(static_cast<int>(ErrorCode::kInternal) == 11);
+static_assert(static_cast<int>(ErrorCode::kResourceLimit) == 12);
 
 // ---------------------------------------------------------------------------------------------
 // Tables of every enumerator with its stable name (the names the spec's tables use).
@@ -121,7 +122,7 @@ inline constexpr std::array<WireName<ConnectivityMethod>, 3> kConnectivityMethod
 }};
 
 // Names as returned by ErrorCodeName().
-inline constexpr std::array<WireName<ErrorCode>, 12> kErrorCodeNames = {{
+inline constexpr std::array<WireName<ErrorCode>, 13> kErrorCodeNames = {{
     {ErrorCode::kOk, "ok"},
     {ErrorCode::kInvalidArgument, "invalid-argument"},
     {ErrorCode::kIoError, "io-error"},
@@ -134,6 +135,7 @@ inline constexpr std::array<WireName<ErrorCode>, 12> kErrorCodeNames = {{
     {ErrorCode::kNumericalFailure, "numerical-failure"},
     {ErrorCode::kNotFound, "not-found"},
     {ErrorCode::kInternal, "internal"},
+    {ErrorCode::kResourceLimit, "resource-limit"},
 }};
 
 // The stable name of a listed value, or "" for a value no table row holds.

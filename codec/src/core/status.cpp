@@ -28,6 +28,8 @@ std::string_view ErrorCodeName(ErrorCode code) {
       return "not-found";
     case ErrorCode::kInternal:
       return "internal";
+    case ErrorCode::kResourceLimit:
+      return "resource-limit";
   }
   return "unknown";
 }
@@ -67,5 +69,8 @@ Status NumericalFailureError(std::string message) {
 }
 Status NotFoundError(std::string message) { return {ErrorCode::kNotFound, std::move(message)}; }
 Status InternalError(std::string message) { return {ErrorCode::kInternal, std::move(message)}; }
+Status ResourceLimitError(std::string message) {
+  return {ErrorCode::kResourceLimit, std::move(message)};
+}
 
 }  // namespace dmc

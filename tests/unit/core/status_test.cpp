@@ -32,12 +32,14 @@ TEST(Status, ExitCodesAreDistinctPerClass) {
   EXPECT_EQ(ExitCodeFor(ErrorCode::kInvalidArgument), 11);
   EXPECT_EQ(ExitCodeFor(ErrorCode::kCorruptStream), 17);
   EXPECT_EQ(ExitCodeFor(ErrorCode::kInternal), 21);
+  EXPECT_EQ(ExitCodeFor(ErrorCode::kResourceLimit), 22);
 }
 
 TEST(Status, CodeNamesArePinned) {
   EXPECT_EQ(ErrorCodeName(ErrorCode::kInvalidSequence), "invalid-sequence");
   EXPECT_EQ(ErrorCodeName(ErrorCode::kTruncatedStream), "truncated-stream");
   EXPECT_EQ(ErrorCodeName(ErrorCode::kNotFound), "not-found");
+  EXPECT_EQ(ErrorCodeName(ErrorCode::kResourceLimit), "resource-limit");
 }
 
 TEST(StatusOr, MacrosPropagateTheCause) {
