@@ -135,4 +135,26 @@ bool NaturalLess(std::string_view a, std::string_view b);
 // left untouched (kIoError naming the path and the system's reason).
 Status WriteFileAtomically(const std::filesystem::path& path, std::span<const uint8_t> bytes);
 
+// Temporary files. Every writer of dmc (WriteSequence, WriteFileAtomically, the streaming encoder
+// and DecodeToPc2) writes its output under a hidden name beside it,
+// ".<name>.dmc-tmp-<pid>-<n>" (a directory of frame files for directory outputs), and renames it
+// into place when complete; every error path removes it. A process stopped by a signal cannot,
+// unless it asks, with one of these two. The library itself installs no signal handler.
+
+// Removes the temporaries of every write in progress in this process, and renames an output
+// directory that was moved aside while being replaced back into place. Async-signal-safe (only
+// system calls on paths recorded beforehand): meant for a signal handler, after which the process
+// should end; writes still in progress then fail. Up to 64 temporaries alive at once are tracked
+// (a process writes one to three per output); one beyond that, or with a path of PATH_MAX bytes or
+// more, is still removed on error paths but not by this.
+void RemoveTemporaryFiles() noexcept;
+
+// Installs handlers for SIGINT, SIGTERM and SIGHUP that call RemoveTemporaryFiles, then restore
+// the disposition the signal had before and raise it again, so the process ends as it would have
+// without them (exit status: killed by that signal) or the previous handler runs. A signal that
+// was ignored (SIG_IGN, as under nohup) stays ignored. Installing again does nothing. For a
+// program with handlers of its own: call RemoveTemporaryFiles from them instead. kInternal when
+// the system refuses (sigaction).
+Status InstallTemporaryFileCleanupOnSignals();
+
 }  // namespace dmc

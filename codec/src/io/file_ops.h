@@ -11,9 +11,45 @@
 
 namespace dmc::io_internal {
 
-// A path beside `path`, in the same directory (so rename is atomic), that no other writer in this
-// or another process uses: "<dir>/.<name>.dmc-tmp-<pid>-<counter>".
-std::filesystem::path TemporarySibling(const std::filesystem::path& path);
+// A temporary beside `destination`, in the same directory (so rename is atomic), under a name no
+// other writer in this or another process uses: "<dir>/.<name>.dmc-tmp-<pid>-<counter>". It is
+// listed in the process-wide registry that RemoveTemporaryFiles (dmc/io.h) walks, from before it
+// is created until it has been renamed into place or removed, so a signal handler can remove it.
+// The destructor removes what is still there (every error path, exceptions included) unless
+// Release was called. Creating the file or directory is the caller's job.
+class TemporaryPath {
+ public:
+  enum class Kind : uint8_t {
+    kFile = 1,
+    kDirectory = 2,  // holds only files (the frame files being written)
+    // An existing output directory moved aside while its replacement is renamed in: abandoned,
+    // it is renamed back onto `destination`, or removed when `destination` exists again.
+    kMovedAside = 3,
+  };
+  TemporaryPath(const std::filesystem::path& destination, Kind kind);
+  TemporaryPath(TemporaryPath&& other) noexcept;
+  TemporaryPath& operator=(TemporaryPath&& other) noexcept;
+  TemporaryPath(const TemporaryPath&) = delete;
+  TemporaryPath& operator=(const TemporaryPath&) = delete;
+  ~TemporaryPath();
+
+  const std::filesystem::path& path() const { return path_; }
+
+  // The temporary has been renamed into place: nothing is left to remove.
+  void Release();
+  // kMovedAside only: the replacement is in place, so the old content is removed, not restored.
+  void RemoveInsteadOfRestoring();
+  // Removes the temporary now (as the destructor would) and unregisters it.
+  void Abandon();
+
+ private:
+  std::filesystem::path path_;
+  std::filesystem::path destination_;
+  Kind kind_ = Kind::kFile;
+  int slot_ = -1;  // registry slot, -1 when the registry was full or the path too long
+  uint64_t word_ = 0;
+  bool active_ = false;
+};
 
 // Creates `path`, which must not exist, and writes `bytes` to it; with `sync`, flushes it to disk
 // before closing. On failure the partial file is removed.

@@ -44,9 +44,14 @@ StatusOr<StagedFile> StagedFile::Create(const std::filesystem::path& destination
     return InvalidArgumentError("cannot write to '" + destination.string() + "': not a file name");
   }
   DMC_RETURN_IF_ERROR(CheckParentDirectory(destination));
-  std::filesystem::path temporary = TemporarySibling(destination);
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) return IoErrorFromErrno("cannot create", temporary, errno);
+  TemporaryPath temporary(destination, TemporaryPath::Kind::kFile);
+  const int fd = ::open(temporary.path().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int error = errno;
+    // Not ours: an existing file of that name is left alone.
+    temporary.Release();
+    return IoErrorFromErrno("cannot create", temporary.path(), error);
+  }
   return StagedFile(destination, std::move(temporary), fd);
 }
 
@@ -55,16 +60,13 @@ StagedFile::StagedFile(StagedFile&& other) noexcept
       temporary_(std::move(other.temporary_)),
       fd_(std::exchange(other.fd_, -1)),
       size_(other.size_),
-      synced_(other.synced_) {
-  other.temporary_.clear();
-}
+      synced_(other.synced_) {}
 
 StagedFile& StagedFile::operator=(StagedFile&& other) noexcept {
   if (this != &other) {
     Discard();
     destination_ = std::move(other.destination_);
     temporary_ = std::move(other.temporary_);
-    other.temporary_.clear();
     fd_ = std::exchange(other.fd_, -1);
     size_ = other.size_;
     synced_ = other.synced_;
@@ -77,8 +79,7 @@ StagedFile::~StagedFile() { Discard(); }
 void StagedFile::Discard() {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
-  if (!temporary_.empty()) ::unlink(temporary_.c_str());
-  temporary_.clear();
+  temporary_.Abandon();
 }
 
 Status StagedFile::Append(std::span<const uint8_t> bytes) {
@@ -103,8 +104,9 @@ Status StagedFile::Commit() {
   const int fd = std::exchange(fd_, -1);
   if (::close(fd) != 0) return IoErrorFromErrno("cannot write", destination_, errno);
   // RenameIntoPlace removes the temporary itself when it fails.
-  const std::filesystem::path temporary = std::exchange(temporary_, {});
-  return RenameIntoPlace(temporary, destination_);
+  DMC_RETURN_IF_ERROR(RenameIntoPlace(temporary_.path(), destination_));
+  temporary_.Release();
+  return Status::Ok();
 }
 
 // ---- Pc2FrameReader ----------------------------------------------------------------------------

@@ -17,6 +17,7 @@
 
 #include "dmc/sequence.h"
 #include "dmc/status.h"
+#include "io/file_ops.h"
 #include "io/pc2_format.h"
 
 namespace dmc::io_internal {
@@ -24,7 +25,7 @@ namespace dmc::io_internal {
 class StagedFile {
  public:
   // Checks that the destination's directory exists and creates the temporary sibling
-  // (TemporarySibling) exclusively. kIoError naming the path when either fails.
+  // (TemporaryPath) exclusively. kIoError naming the path when either fails.
   static StatusOr<StagedFile> Create(const std::filesystem::path& destination);
 
   StagedFile(StagedFile&& other) noexcept;
@@ -43,16 +44,15 @@ class StagedFile {
   Status Commit();
 
   const std::filesystem::path& destination() const { return destination_; }
-  const std::filesystem::path& temporary() const { return temporary_; }
   uint64_t size() const { return size_; }
 
  private:
-  StagedFile(std::filesystem::path destination, std::filesystem::path temporary, int fd)
+  StagedFile(std::filesystem::path destination, TemporaryPath temporary, int fd)
       : destination_(std::move(destination)), temporary_(std::move(temporary)), fd_(fd) {}
   void Discard();
 
   std::filesystem::path destination_;
-  std::filesystem::path temporary_;
+  TemporaryPath temporary_;
   int fd_ = -1;
   uint64_t size_ = 0;
   bool synced_ = false;

@@ -1,10 +1,12 @@
 // ReadSequence / WriteSequence: resolving the input (directory, glob, file, PC2), reading frames
 // and checking them against frame 0, and writing files or directories atomically.
 #include <fnmatch.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -427,16 +429,16 @@ Status WriteFrameDirectory(const MeshSequence& sequence, const std::filesystem::
   }
   if (replacing) DMC_RETURN_IF_ERROR(CheckReplaceableDirectory(output));
 
-  const std::filesystem::path staging = io_internal::TemporarySibling(output);
-  if (!std::filesystem::create_directory(staging, error)) {
-    return IoError("cannot create " + staging.string() + ": " +
-                   (error ? error.message() : "it exists"));
+  using io_internal::TemporaryPath;
+  TemporaryPath staging_path(output, TemporaryPath::Kind::kDirectory);
+  const std::filesystem::path& staging = staging_path.path();
+  if (::mkdir(staging.c_str(), 0777) != 0) {
+    const int mkdir_error = errno;
+    staging_path.Release();  // not created by this call
+    return io_internal::IoErrorFromErrno("cannot create", staging, mkdir_error);
   }
-  auto fail = [&staging](Status status) {
-    std::error_code ignored;
-    std::filesystem::remove_all(staging, ignored);
-    return status;
-  };
+  // Every return below that has not renamed the staging directory into place removes it
+  // (~TemporaryPath), and puts a moved-aside old output back.
   const int frame_count = sequence.frame_count();
   const int digits = std::max<int>(4, static_cast<int>(std::to_string(frame_count - 1).size()));
   const std::string extension(io_internal::MeshFormatExtension(format));
@@ -446,31 +448,31 @@ Status WriteFrameDirectory(const MeshSequence& sequence, const std::filesystem::
     // Per-frame fsync is skipped: the directory only becomes visible by the final rename.
     const Status written =
         io_internal::WriteNewFile(file, AsBytes(FrameText(sequence, f, format)), /*sync=*/false);
-    if (!written.ok()) return fail(written);
+    if (!written.ok()) return written;
     if (options.progress) options.progress(f + 1, frame_count);
   }
 
   if (!replacing) {
     std::filesystem::rename(staging, output, error);
     if (error)
-      return fail(IoError("cannot rename " + staging.string() + " to " + output.string() + ": " +
-                          error.message()));
+      return IoError("cannot rename " + staging.string() + " to " + output.string() + ": " +
+                     error.message());
+    staging_path.Release();
     return Status::Ok();
   }
-  // Swap: old output aside, new one in, old one deleted; any failure restores the old one.
-  const std::filesystem::path previous = io_internal::TemporarySibling(output);
-  std::filesystem::rename(output, previous, error);
+  // Swap: old output aside, new one in, old one deleted. Until the new one is in, the old one is
+  // put back by any failure or a signal (TemporaryPath::Kind::kMovedAside).
+  TemporaryPath previous(output, TemporaryPath::Kind::kMovedAside);
+  std::filesystem::rename(output, previous.path(), error);
   if (error)
-    return fail(
-        IoError("cannot move the existing " + output.string() + " aside: " + error.message()));
+    return IoError("cannot move the existing " + output.string() + " aside: " + error.message());
   std::filesystem::rename(staging, output, error);
-  if (error) {
-    std::error_code ignored;
-    std::filesystem::rename(previous, output, ignored);
-    return fail(IoError("cannot rename " + staging.string() + " to " + output.string() + ": " +
-                        error.message()));
-  }
-  std::filesystem::remove_all(previous, error);
+  if (error)
+    return IoError("cannot rename " + staging.string() + " to " + output.string() + ": " +
+                   error.message());
+  staging_path.Release();
+  previous.RemoveInsteadOfRestoring();
+  previous.Abandon();
   return Status::Ok();
 }
 
@@ -478,26 +480,20 @@ Status WritePc2Pair(const MeshSequence& sequence, const std::filesystem::path& o
                     const WriteOptions& options) {
   std::filesystem::path mesh_path = output;
   mesh_path.replace_extension(".obj");
-  const std::filesystem::path cache_staging = io_internal::TemporarySibling(output);
-  const std::filesystem::path mesh_staging = io_internal::TemporarySibling(mesh_path);
+  using io_internal::TemporaryPath;
+  // Either temporary left unrenamed by a failure is removed by its destructor.
+  TemporaryPath cache_staging(output, TemporaryPath::Kind::kFile);
+  TemporaryPath mesh_staging(mesh_path, TemporaryPath::Kind::kFile);
   DMC_RETURN_IF_ERROR(io_internal::WriteNewFile(
-      cache_staging, AsBytes(io_internal::EncodePc2(sequence)), /*sync=*/true));
-  const Status mesh_written = io_internal::WriteNewFile(
-      mesh_staging, AsBytes(FrameText(sequence, 0, MeshFormat::kObj)), /*sync=*/true);
-  if (!mesh_written.ok()) {
-    std::error_code ignored;
-    std::filesystem::remove(cache_staging, ignored);
-    return mesh_written;
-  }
+      cache_staging.path(), AsBytes(io_internal::EncodePc2(sequence)), /*sync=*/true));
+  DMC_RETURN_IF_ERROR(io_internal::WriteNewFile(
+      mesh_staging.path(), AsBytes(FrameText(sequence, 0, MeshFormat::kObj)), /*sync=*/true));
   // Each file is replaced atomically; the mesh goes first so that a cache never appears next to
   // a stale mesh of another vertex count.
-  const Status mesh_renamed = io_internal::RenameIntoPlace(mesh_staging, mesh_path);
-  if (!mesh_renamed.ok()) {
-    std::error_code ignored;
-    std::filesystem::remove(cache_staging, ignored);
-    return mesh_renamed;
-  }
-  DMC_RETURN_IF_ERROR(io_internal::RenameIntoPlace(cache_staging, output));
+  DMC_RETURN_IF_ERROR(io_internal::RenameIntoPlace(mesh_staging.path(), mesh_path));
+  mesh_staging.Release();
+  DMC_RETURN_IF_ERROR(io_internal::RenameIntoPlace(cache_staging.path(), output));
+  cache_staging.Release();
   if (options.progress) options.progress(sequence.frame_count(), sequence.frame_count());
   return Status::Ok();
 }
