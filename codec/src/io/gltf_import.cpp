@@ -156,7 +156,8 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
   sequence.frame_rate = options.frame_rate;
   gltf::ScenePoser poser(model, scene, primitives.instances, inverse_binds, clip.channels);
   for (int f = 0; f < frame_count; ++f) {
-    poser.Pose(clip.start + f / options.frame_rate, sequence.frame(f));
+    DMC_RETURN_IF_ERROR(poser.Pose(clip.start + f / options.frame_rate, sequence.frame(f))
+                            .WithContext("frame " + std::to_string(f)));
   }
   result.sequence = std::move(sequence);
   result.vertex_map.resize(static_cast<size_t>(primitives.vertex_total));

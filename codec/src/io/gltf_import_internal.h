@@ -142,12 +142,14 @@ class ScenePoser {
              const std::vector<Channel>& channels);
 
   // Writes the positions of every instance at `time` into `frame` (all instances' vertices).
-  void Pose(double time, Eigen::Map<FramePositions> frame);
+  // kInvalidSequence "vertex 12, coordinate y: the posed value 1e+300 is out of float32 range"
+  // when transforms take a finite position beyond what a float holds.
+  Status Pose(double time, Eigen::Map<FramePositions> frame);
 
  private:
   // poses_, globals_ and joint_matrices_ at `time`.
   void PoseNodes(double time);
-  void PoseInstance(const PrimitiveInstance& instance, Eigen::Map<FramePositions>& frame) const;
+  Status PoseInstance(const PrimitiveInstance& instance, Eigen::Map<FramePositions>& frame) const;
 
   const tinygltf::Model& model_;
   const SceneOrder& scene_;

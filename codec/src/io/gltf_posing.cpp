@@ -1,5 +1,10 @@
 // One frame of a glTF animation: sampled node transforms, then morph targets and skinning per
 // vertex, in double, rounded to float32 once.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
 #include "io/gltf_import_internal.h"
 
 namespace dmc::io_internal::gltf {
@@ -19,9 +24,12 @@ ScenePoser::ScenePoser(const tinygltf::Model& model, const SceneOrder& scene,
   for (const auto& node : model.nodes) static_poses_.push_back(StaticPose(node));
 }
 
-void ScenePoser::Pose(double time, Eigen::Map<FramePositions> frame) {
+Status ScenePoser::Pose(double time, Eigen::Map<FramePositions> frame) {
   PoseNodes(time);
-  for (const PrimitiveInstance& instance : instances_) PoseInstance(instance, frame);
+  for (const PrimitiveInstance& instance : instances_) {
+    DMC_RETURN_IF_ERROR(PoseInstance(instance, frame));
+  }
+  return Status::Ok();
 }
 
 void ScenePoser::PoseNodes(double time) {
@@ -60,8 +68,8 @@ void ScenePoser::PoseNodes(double time) {
   }
 }
 
-void ScenePoser::PoseInstance(const PrimitiveInstance& instance,
-                              Eigen::Map<FramePositions>& frame) const {
+Status ScenePoser::PoseInstance(const PrimitiveInstance& instance,
+                                Eigen::Map<FramePositions>& frame) const {
   const NodePose& pose = poses_[static_cast<size_t>(instance.node)];
   const std::vector<double>& weights =
       !pose.weights.empty() ? pose.weights : instance.default_weights;
@@ -87,9 +95,19 @@ void ScenePoser::PoseInstance(const PrimitiveInstance& instance,
       posed = globals_[static_cast<size_t>(instance.node)] * point;
     }
     for (int axis = 0; axis < 3; ++axis) {
+      // Non-finite values pass on to ValidateSequence, which names them; a finite one that
+      // would overflow the float is named here (the conversion would be undefined).
+      if (std::isfinite(posed[axis]) &&
+          std::fabs(posed[axis]) > std::numeric_limits<float>::max()) {
+        return InvalidSequenceError(fmt::format(
+            "vertex {}, coordinate {}: the posed value {} is out of float32 range (at most "
+            "3.4028235e+38 in magnitude)",
+            instance.vertex_offset + v, "xyz"[axis], posed[axis]));
+      }
       frame(instance.vertex_offset + v, axis) = static_cast<float>(posed[axis]);
     }
   }
+  return Status::Ok();
 }
 
 }  // namespace dmc::io_internal::gltf

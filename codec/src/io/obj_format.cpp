@@ -63,10 +63,16 @@ bool ParseCornerVertex(std::string_view corner, int64_t& vertex) {
 Status ParseObjVertex(TokenReader& tokens, int line_number, MeshFileData& mesh) {
   std::string_view token;
   int count = 0;
+  const int64_t vertex = static_cast<int64_t>(mesh.positions.size() / 3);
   while (tokens.Next(token)) {
     float value = 0.0f;
-    if (!ParseNumber(token, value)) {
-      return LineError(line_number, "vertex coordinate " + Quote(token) + " is not a number");
+    if (const NumberParse parsed = ParseNumberChecked(token, value); parsed != NumberParse::kOk) {
+      if (count < 3) return LineError(line_number, CoordinateProblem(token, parsed, vertex, count));
+      return LineError(line_number,
+                       "vertex " + std::to_string(vertex) + ": value " + std::to_string(count + 1) +
+                           ", " + Quote(token) +
+                           (parsed == NumberParse::kOutOfRange ? ", is out of float32 range"
+                                                               : ", is not a number"));
     }
     if (count < 3) mesh.positions.push_back(value);
     ++count;

@@ -110,8 +110,10 @@ Status ParseOffVertex(std::string_view line, int line_number, MeshFileData& mesh
       return LineError(line_number,
                        "vertex has " + std::to_string(axis) + " coordinate(s), expected 3");
     }
-    if (!ParseNumber(token, value)) {
-      return LineError(line_number, "vertex coordinate " + Quote(token) + " is not a number");
+    if (const NumberParse parsed = ParseNumberChecked(token, value); parsed != NumberParse::kOk) {
+      return LineError(
+          line_number,
+          CoordinateProblem(token, parsed, static_cast<int64_t>(mesh.positions.size() / 3), axis));
     }
     mesh.positions.push_back(value);
   }

@@ -244,8 +244,12 @@ Status ParseAsciiProperty(BodyTokens& tokens, const PlyElement& element, int64_t
     }
     bool ok = false;
     if (axis >= 0) {
-      ok = ParseNumber(token,
-                       mesh.positions[static_cast<size_t>(index) * 3 + static_cast<size_t>(axis)]);
+      const NumberParse parsed = ParseNumberChecked(
+          token, mesh.positions[static_cast<size_t>(index) * 3 + static_cast<size_t>(axis)]);
+      if (parsed != NumberParse::kOk) {
+        return LineError(tokens.line(), CoordinateProblem(token, parsed, index, axis));
+      }
+      ok = true;
     } else if (property.value_kind == PlyNumber::kInteger) {
       int64_t value = 0;
       ok = ParseNumber(token, value);

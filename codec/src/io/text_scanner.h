@@ -2,11 +2,13 @@
 #pragma once
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 
 namespace dmc::io_internal {
 
@@ -66,16 +68,37 @@ class TokenReader {
   size_t position_ = 0;
 };
 
+enum class NumberParse { kOk, kNotANumber, kOutOfRange };
+
 // Parses a whole token as a number, correctly rounded to T (from_chars: no locale, exact
 // rounding, "nan"/"inf" accepted so that validation, not the parser, reports them with their
-// frame and vertex). A leading '+' is accepted, trailing characters are not.
+// frame and vertex). A leading '+' is accepted, trailing characters are not. kOutOfRange: a
+// well-formed number beyond T's range (1e300 for a float, 2^63 for an int64_t). A real number too
+// small for T is not out of range: it rounds to a zero of its sign, as strtof would give.
 template <typename T>
-bool ParseNumber(std::string_view token, T& value) {
+NumberParse ParseNumberChecked(std::string_view token, T& value) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  if (token.empty()) return false;
+  if (token.empty()) return NumberParse::kNotANumber;
   const char* end = token.data() + token.size();
   const auto [stop, error] = std::from_chars(token.data(), end, value);
-  return error == std::errc() && stop == end;
+  if (stop != end) return NumberParse::kNotANumber;
+  if (error == std::errc()) return NumberParse::kOk;
+  if (error != std::errc::result_out_of_range) return NumberParse::kNotANumber;
+  if constexpr (std::is_floating_point_v<T>) {
+    // from_chars reports underflow and overflow alike; a wider type tells them apart.
+    long double wide = 0.0L;
+    const auto [wide_stop, wide_error] = std::from_chars(token.data(), end, wide);
+    if (wide_stop == end && wide_error == std::errc() && std::fabs(wide) < 1.0L) {
+      value = std::signbit(wide) ? -T(0) : T(0);
+      return NumberParse::kOk;
+    }
+  }
+  return NumberParse::kOutOfRange;
+}
+
+template <typename T>
+bool ParseNumber(std::string_view token, T& value) {
+  return ParseNumberChecked(token, value) == NumberParse::kOk;
 }
 
 // The line with leading blanks removed.
@@ -93,6 +116,17 @@ inline std::string Quote(std::string_view token) {
   if (token.size() > kMax) out += "...";
   out += "'";
   return out;
+}
+
+// What is wrong with coordinate `axis` (0, 1, 2 for x, y, z) of vertex `vertex` (counted from 0)
+// whose token `token` did not parse (`result` not kOk), e.g. "vertex 12, coordinate y: '1e300' is
+// out of float32 range (at most 3.4028235e+38 in magnitude)".
+inline std::string CoordinateProblem(std::string_view token, NumberParse result, int64_t vertex,
+                                     int axis) {
+  return "vertex " + std::to_string(vertex) + ", coordinate " + "xyz"[axis] + ": " + Quote(token) +
+         (result == NumberParse::kOutOfRange
+              ? " is out of float32 range (at most 3.4028235e+38 in magnitude)"
+              : " is not a number");
 }
 
 }  // namespace dmc::io_internal

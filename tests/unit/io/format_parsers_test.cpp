@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "dmc/io.h"
 #include "io_test_util.h"
@@ -114,7 +117,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"v 0 0 0\nv 1 2\n", ErrorCode::kParseError,
                  ":2: vertex has 2 coordinate(s), expected 3"},
         BadInput{"v 0 0 0\nv 1 0 abc\n", ErrorCode::kParseError,
-                 ":2: vertex coordinate 'abc' is not a number"},
+                 ":2: vertex 1, coordinate z: 'abc' is not a number"},
+        // Well-formed but beyond float32: not "not a number" (issue 21).
+        BadInput{"v 0 0 0\nv 1 1e300 0\n", ErrorCode::kParseError,
+                 ":2: vertex 1, coordinate y: '1e300' is out of float32 range (at most "
+                 "3.4028235e+38 in magnitude)"},
+        BadInput{"v -3.5e38 0 0\n", ErrorCode::kParseError,
+                 ":1: vertex 0, coordinate x: '-3.5e38' is out of float32 range"},
+        BadInput{"v 0 0 0 1e39\n", ErrorCode::kParseError,
+                 ":1: vertex 0: value 4, '1e39', is out of float32 range"},
         BadInput{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", ErrorCode::kParseError,
                  ":4: face refers to vertex 9 but the file defines 3"},
         BadInput{"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n", ErrorCode::kParseError,
@@ -168,7 +179,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError,
                  ": the file ends after 1 of 2 faces"},
         BadInput{"OFF\n3 1 0\n0 0 0\n1 0 x\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError,
-                 ":4: vertex coordinate 'x' is not a number"},
+                 ":4: vertex 1, coordinate z: 'x' is not a number"},
+        BadInput{"OFF\n3 1 0\n0 0 0\n1 0 0\n0 -1e39 0\n3 0 1 2\n", ErrorCode::kParseError,
+                 ":5: vertex 2, coordinate y: '-1e39' is out of float32 range"},
         BadInput{"OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n", ErrorCode::kParseError,
                  ":4: vertex has 2 coordinate(s), expected 3"},
         BadInput{"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", ErrorCode::kParseError,
@@ -250,7 +263,11 @@ INSTANTIATE_TEST_SUITE_P(
                  ":2: expected 'format <encoding> 1.0'"},
         BadInput{"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n",
                  ErrorCode::kParseError, ": the header has no 'end_header' line"},
-        BadInput{"solid stl\n", ErrorCode::kParseError, ":1: expected the PLY magic 'ply'"}));
+        BadInput{"solid stl\n", ErrorCode::kParseError, ":1: expected the PLY magic 'ply'"},
+        BadInput{"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                 "property double z\nend_header\n0 0 1e300\n",
+                 ErrorCode::kParseError,
+                 ":8: vertex 0, coordinate z: '1e300' is out of float32 range"}));
 
 // Binary PLY bodies go through OpenMesh's reader; build one by hand.
 std::string BinaryPly(bool big_endian, bool truncate) {
@@ -287,6 +304,43 @@ TEST(PlyParserTest, ReadsBinaryLittleAndBigEndianThroughOpenMesh) {
     EXPECT_EQ(sequence->frame(0)(3, 0), 0.1f);  // double rounded to the nearest float
     EXPECT_EQ(sequence->frame(0)(3, 2), -2.5f);
   }
+}
+
+TEST(TextParsersTest, NumbersTooSmallForFloat32RoundToZero) {
+  // As strtof rounds them: a zero of the number's sign, not an error.
+  ScratchDir dir;
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"tiny.obj", "v 0 0 0\nv 1 0 0\nv 0 1 -1e-300\nf 1 2 3\n"},
+           {"tiny.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 -1e-300\n3 0 1 2\n"},
+           {"tiny.ply",
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 0 0\n0 1 -1e-300\n3 0 1 2\n"}}) {
+    auto sequence = ReadText(dir, name, text);
+    ASSERT_TRUE(sequence.ok()) << name << ": " << sequence.status().ToString();
+    EXPECT_EQ(sequence->frame(0)(2, 2), 0.0f) << name;
+    EXPECT_TRUE(std::signbit(sequence->frame(0)(2, 2))) << name;
+  }
+}
+
+TEST(GltfReaderTest, NamesAPosedPositionBeyondFloat32) {
+  // One triangle whose node translation takes it beyond float32 (the accessor itself is float).
+  ScratchDir dir;
+  auto sequence = ReadText(dir, "far.gltf",
+                           R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+          "nodes": [{"mesh": 0, "translation": [0, 1e300, 0]}],
+          "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+          "buffers": [{"byteLength": 44, "uri":
+            "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}],
+          "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+          "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]})");
+  ASSERT_FALSE(sequence.ok());
+  EXPECT_EQ(sequence.status().code(), ErrorCode::kInvalidSequence);
+  EXPECT_THAT(sequence.status().message(),
+              HasSubstr("far.gltf: frame 0: vertex 0, coordinate y: the posed value 1e+300 is "
+                        "out of float32 range"));
 }
 
 TEST(PlyParserTest, RejectsTruncatedBinary) {
