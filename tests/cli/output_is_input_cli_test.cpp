@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/cli_runner.h"
@@ -52,6 +53,59 @@ TEST(OutputIsInputCli, RefusedBeforeAnyWorkAndTheInputKept) {
   EXPECT_EQ(Bytes(off_mesh), off_bytes);
   // A different output is written as before.
   EXPECT_EQ(RunDmc("decode " + Quoted(stream) + " -o " + Quoted(dir / "out.pc2")).exit_code, 0);
+}
+
+// dmc edit and dmc edit tvm, and outputs that are directories: a directory output is replaced as a
+// whole (WriteSequence) or written into (edit tvm), so it may not hold an input either.
+TEST(OutputIsInputCli, EditAndDirectoryOutputsAreRefusedToo) {
+  const auto dir = FreshTempDir("output_is_input");
+  const auto mesh = dir / "m.obj", frames = dir / "frames", selection = dir / "sel.txt";
+  ASSERT_EQ(RunDmc("synth blob -o " + Quoted(frames) + " --frames 3 --resolution 200").exit_code,
+            0);
+  ASSERT_EQ(
+      RunDmc("convert " + Quoted(frames / "frame_0000.obj") + " -o " + Quoted(mesh)).exit_code, 0);
+  std::ofstream(selection) << "0 1 2\n";
+  const auto tvm = dir / "tvm";
+  ASSERT_EQ(
+      RunDmc("synth collision -o " + Quoted(tvm) + " --frames 3 --resolution 300 --centres 40")
+          .exit_code,
+      0);
+  std::ofstream(tvm / "lift.json") << "{}";
+  std::filesystem::create_symlink(mesh, dir / "link.obj");
+  const auto mesh_bytes = Bytes(mesh), selection_bytes = Bytes(selection),
+             frame_bytes = Bytes(frames / "frame_0001.obj"), tvm_bytes = Bytes(tvm / "centres.txt");
+
+  const std::string smooth = "edit smooth-explicit --operator cotan ";
+  for (const auto& [command, relation] : std::vector<std::pair<std::string, std::string>>{
+           {smooth + Quoted(mesh) + " -o " + Quoted(mesh), "is the input"},
+           {smooth + Quoted(dir / "link.obj") + " -o " + Quoted(dir / "." / "m.obj"),
+            "is the input"},
+           {smooth + Quoted(mesh) + " --selection " + Quoted(selection) + " -o " +
+                Quoted(selection),
+            "is the input"},
+           {smooth + Quoted(frames) + " -o " + Quoted(frames), "is the input"},
+           {smooth + Quoted(frames / "frame_0000.obj") + " -o " + Quoted(frames),
+            "holds the input"},
+           {"convert " + Quoted(frames / "frame_0001.obj") + " -o " + Quoted(frames),
+            "holds the input"},
+           {"convert " + Quoted(frames / "frame_*.obj") + " -o " + Quoted(frames), "is the input"},
+           {"edit tvm " + Quoted(tvm) + " -o " + Quoted(tvm) + " --selection " +
+                Quoted(tvm / "lift.json"),
+            "is the input"},
+           {"edit tvm " + Quoted(tvm) + " -o " + Quoted(dir) + " --selection " +
+                Quoted(tvm / "lift.json"),
+            "holds the input"}}) {
+    const CliResult result = RunDmc(command);
+    EXPECT_EQ(result.exit_code, 11) << command << "\n" << result.err;  // invalid-argument
+    EXPECT_NE(result.err.find(relation), std::string::npos) << command << "\n" << result.err;
+  }
+  EXPECT_EQ(Bytes(mesh), mesh_bytes);
+  EXPECT_EQ(Bytes(selection), selection_bytes);
+  EXPECT_EQ(Bytes(frames / "frame_0001.obj"), frame_bytes);
+  EXPECT_EQ(Bytes(tvm / "centres.txt"), tvm_bytes);
+  // Other outputs are written as before, a directory output beside the inputs too.
+  EXPECT_EQ(RunDmc(smooth + Quoted(mesh) + " -o " + Quoted(dir / "smoothed.obj")).exit_code, 0);
+  EXPECT_EQ(RunDmc(smooth + Quoted(frames) + " -o " + Quoted(dir / "smoothed")).exit_code, 0);
 }
 
 }  // namespace

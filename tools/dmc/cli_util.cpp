@@ -32,8 +32,37 @@ std::string JsonText(const nlohmann::json& document) {
 
 void PrintJson(const nlohmann::json& document) { std::cout << JsonText(document) << std::endl; }
 
+namespace {
+
+// Whether `inner` is `outer` or lies below it, both canonical.
+bool IsWithin(const std::filesystem::path& inner, const std::filesystem::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (i == inner.end() || *i != *o) return false;
+  }
+  return true;
+}
+
+// An input as it exists on disk: the path, or for a glob pattern ("dir/mesh_*.obj"), which names
+// no file itself, the directory it matches in. Empty when neither exists.
+std::filesystem::path ExistingInput(const std::string& input) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (input.empty()) return {};
+  const fs::path path(input);
+  if (fs::exists(path, error)) return path;
+  if (path.filename().string().find_first_of("*?[") != std::string::npos &&
+      fs::is_directory(path.parent_path().empty() ? fs::path(".") : path.parent_path(), error)) {
+    return path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  }
+  return {};
+}
+
+}  // namespace
+
 Status RefuseOutputThatIsAnInput(const std::string& output, const std::string& input,
-                                 const std::string& connectivity) {
+                                 const std::string& connectivity,
+                                 const std::vector<std::string>& other_inputs) {
   namespace fs = std::filesystem;
   // A .pc2 output is written with <stem>.obj beside it (WriteSequence); a .pc2 input reads the
   // connectivity named, or the one FindPc2Connectivity finds.
@@ -45,16 +74,29 @@ Status RefuseOutputThatIsAnInput(const std::string& output, const std::string& i
       read_mesh = found->string();
     }
   }
-  const std::string written[] = {output, written_mesh};
-  const std::string read[] = {input, read_mesh};
-  for (const std::string& out : written) {
-    for (const std::string& in : read) {
-      std::error_code error;
-      if (!out.empty() && !in.empty() && fs::equivalent(out, in, error)) {
-        return InvalidArgumentError("output " + out + " is the input " + in +
-                                    ": writing it would replace what is being read; choose "
-                                    "another output path");
-      }
+  std::vector<fs::path> read;
+  for (const std::string& in : {input, read_mesh}) read.push_back(ExistingInput(in));
+  for (const std::string& in : other_inputs) read.push_back(ExistingInput(in));
+  const auto refuse = [](const std::string& out, const fs::path& in, const char* relation) {
+    return InvalidArgumentError("output " + out + relation + in.string() +
+                                ": writing it would replace what is being read; choose "
+                                "another output path");
+  };
+  for (const std::string& out : {output, written_mesh}) {
+    if (out.empty()) continue;
+    std::error_code error;
+    for (const fs::path& in : read) {
+      if (!in.empty() && fs::equivalent(out, in, error)) return refuse(out, in, " is the input ");
+    }
+    // A directory output is replaced as a whole (WriteSequence) or written into (edit tvm): no
+    // input may lie inside it either.
+    if (!fs::is_directory(out, error)) continue;
+    const fs::path directory = fs::canonical(out, error);
+    if (error) continue;
+    for (const fs::path& in : read) {
+      if (in.empty()) continue;
+      const fs::path file = fs::canonical(in, error);
+      if (!error && IsWithin(file, directory)) return refuse(out, in, " holds the input ");
     }
   }
   return Status::Ok();

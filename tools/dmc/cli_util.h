@@ -29,11 +29,15 @@ std::string JsonText(const nlohmann::json& document);
 
 // kInvalidArgument when a file the command would write is a file it reads: `output` (and, for a
 // .pc2 output, the .obj connectivity written beside it) against `input` (and, for a .pc2 input,
-// `connectivity` or the .obj beside it), compared as files (std::filesystem::equivalent), so a
-// link or another spelling of the path is caught too. Checked before any reading, so nothing is
-// lost.
+// `connectivity` or the mesh FindPc2Connectivity finds beside it) and `other_inputs` (a
+// selection, a centres file; empty entries skipped), compared as files
+// (std::filesystem::equivalent), so a link or another spelling of the path is caught too. An
+// output that is an existing directory must not hold any of them either (it is replaced or
+// written into); a glob input ("dir/*.obj") counts as its directory. Checked before any
+// reading, so nothing is lost.
 Status RefuseOutputThatIsAnInput(const std::string& output, const std::string& input,
-                                 const std::string& connectivity = "");
+                                 const std::string& connectivity = "",
+                                 const std::vector<std::string>& other_inputs = {});
 
 // Pretty-prints a JSON document on stdout (JsonText).
 void PrintJson(const nlohmann::json& document);

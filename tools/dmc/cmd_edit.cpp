@@ -120,6 +120,11 @@ int RunEdit(const MethodInfo& method, const EditArgs& args) {
         slot.spec->type == ParameterType::kFlag ? (slot.flag ? "true" : "false") : slot.text;
   }
   // Cheap checks before reading the input.
+  if (const Status distinct =
+          RefuseOutputThatIsAnInput(args.output, args.input, "", {args.selection});
+      !distinct.ok()) {
+    return ReportError(command, distinct, args.json);
+  }
   if (Status found = FindOperator(options.operator_name).status(); !found.ok()) {
     return ReportError(command, found, args.json);
   }

@@ -183,11 +183,18 @@ int RunEditTvm(const EditTvmArgs& args) {
   const auto fail = [&](const Status& status) {
     return ReportError("edit tvm", status, args.json);
   };
-  StatusOr<tvm::TimeVaryingMesh> mesh = tvm::ReadTimeVaryingMesh(args.input);
-  if (!mesh.ok()) return fail(mesh.status());
   const std::filesystem::path centres_path =
       args.centres.empty() ? std::filesystem::path(args.input) / tvm::kCentresFileName
                            : std::filesystem::path(args.centres);
+  // The output directory is written into (frames, stale frames removed, the centres file): it
+  // must be none of the inputs nor hold any.
+  if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input, "",
+                                                        {centres_path.string(), args.selection});
+      !distinct.ok()) {
+    return fail(distinct);
+  }
+  StatusOr<tvm::TimeVaryingMesh> mesh = tvm::ReadTimeVaryingMesh(args.input);
+  if (!mesh.ok()) return fail(mesh.status());
   StatusOr<tvm::CentreTrajectories> centres = tvm::ReadCentres(centres_path);
   if (!centres.ok()) return fail(centres.status());
 
