@@ -1,10 +1,15 @@
 // PLY: the header is parsed here (it decides the path and gives the declared counts); ASCII bodies
 // are parsed strictly here; binary bodies (little or big endian) are read by OpenMesh's PLY reader
 // through VerbatimImporter, then checked against the header's counts.
+#include <fmt/format.h>
+
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -416,13 +421,30 @@ int64_t ReadBinaryInteger(std::string_view body, size_t at, const PlyType& type,
 // the declared elements. OpenMesh's reader does not stop at the end of its input: with a short
 // body it keeps adding the declared number of vertices and faces (and lists of whatever length
 // the bytes past the end decode to), so a small hostile file could make it allocate gigabytes.
-// After this walk, everything it reads is inside the body.
+// After this walk, everything it reads is inside the body. The walk also checks the vertices'
+// double coordinates: OpenMesh rounds them to float, which makes one beyond float32 infinite (and
+// reported as "not finite"); it is named here as what it is.
 Status CheckBinaryLayout(std::string_view body, const PlyHeader& header) {
   const bool big_endian = header.encoding == PlyEncoding::kBinaryBigEndian;
   size_t at = 0;
   for (const PlyElement& element : header.elements) {
     for (int64_t i = 0; i < element.count; ++i) {
       for (const PlyProperty& property : element.properties) {
+        const bool double_coordinate =
+            element.name == "vertex" && !property.is_list &&
+            property.value_kind == PlyNumber::kReal && property.value_bytes == 8 &&
+            property.name.size() == 1 &&
+            std::string_view("xyz").find(property.name[0]) != std::string_view::npos;
+        if (double_coordinate && body.size() - at >= 8) {
+          const double value = std::bit_cast<double>(static_cast<uint64_t>(
+              ReadBinaryInteger(body, at, PlyType{PlyNumber::kInteger, 8, false}, big_endian)));
+          if (std::isfinite(value) && std::fabs(value) > std::numeric_limits<float>::max()) {
+            return ParseError(fmt::format(
+                "vertex {}, coordinate {}: {} is out of float32 range (at most 3.4028235e+38 in "
+                "magnitude)",
+                i, property.name, value));
+          }
+        }
         const auto truncated = [&] {
           return ParseError("the binary PLY body ends inside element '" + element.name + "' " +
                             std::to_string(i) + " of " + std::to_string(element.count) +

@@ -306,6 +306,25 @@ TEST(PlyParserTest, ReadsBinaryLittleAndBigEndianThroughOpenMesh) {
   }
 }
 
+TEST(PlyParserTest, NamesABinaryDoubleBeyondFloat32) {
+  for (bool big_endian : {false, true}) {
+    ScratchDir dir;
+    std::string text = BinaryPly(big_endian, false);
+    // Vertex 2's y: each vertex is three doubles and a uchar.
+    const size_t at = text.find("end_header\n") + 11 + 2 * 25 + 8;
+    char bytes[8];
+    const double huge = -1e300;
+    std::memcpy(bytes, &huge, sizeof bytes);
+    if (big_endian) std::reverse(bytes, bytes + 8);
+    text.replace(at, 8, bytes, 8);
+    auto sequence = ReadText(dir, "huge.ply", text);
+    ASSERT_FALSE(sequence.ok());
+    EXPECT_EQ(sequence.status().code(), ErrorCode::kParseError);
+    EXPECT_THAT(sequence.status().message(),
+                HasSubstr("huge.ply: vertex 2, coordinate y: -1e+300 is out of float32 range"));
+  }
+}
+
 TEST(TextParsersTest, NumbersTooSmallForFloat32RoundToZero) {
   // As strtof rounds them: a zero of the number's sign, not an error.
   ScratchDir dir;
