@@ -140,6 +140,7 @@ int RunEncode(const EncodeArgs& args) {
       out["kg"] = nullptr;
       out["sted"] = nullptr;
     }
+    if (!report.not_measured_reason.empty()) out["not_measured"] = report.not_measured_reason;
     PrintJson(out);
     return 0;
   }
@@ -153,6 +154,9 @@ int RunEncode(const EncodeArgs& args) {
     fmt::print("  KG {:.4f}  STED {:.5f} (spatial {:.5f}, temporal {:.5f})  RMSE/diag {:.3g}\n",
                report.distortion.kg, report.distortion.sted, report.distortion.sted_s,
                report.distortion.sted_t, report.distortion.rmse_rel);
+  }
+  if (!report.not_measured_reason.empty()) {
+    fmt::print("  not measured (decoded and checked): {}\n", report.not_measured_reason);
   }
   fmt::print("  bpfv by element:");
   for (const auto& [name, bytes] : breakdown.items()) {

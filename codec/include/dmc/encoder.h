@@ -96,6 +96,10 @@ struct EncodeReport {
   int vertices = 0;
   DistortionReport distortion;  // valid when measured
   bool measured = false;
+  // Why EncoderOptions::measure was set but nothing was measured: KG and STED are undefined for
+  // the input (e.g. every vertex of a frame at one point). The stream was still decoded to check
+  // it. Empty otherwise.
+  std::string not_measured_reason;
   double seconds = 0.0;
   // Bytes per syntax element, over all segments (chunk framing included).
   uint64_t header_bytes = 0, connectivity_bytes = 0, mean_bytes = 0, basis_bytes = 0,

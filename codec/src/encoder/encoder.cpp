@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <span>
 #include <string>
@@ -104,51 +105,90 @@ struct EncodeJob {
 struct SourceScan {
   double diagonal = 0.0;
   std::optional<StreamingDistortion> meter;  // original terms complete; no segment added yet
+  // Why a meter was asked for but there is none: the metrics are undefined for this source.
+  std::string not_measured;
 };
 
-StatusOr<SourceScan> ScanForEncode(const EncodeJob& job, bool with_meter) {
+// The scale every step derives from: the bounding box's diagonal, so that quantisation is
+// relative to the sequence's own size at any scale. A sequence of one point (every vertex in
+// every frame at the same place) has none: its steps derive from the point's largest coordinate
+// instead, 2^-33 of it, so that the mean codes the point to 2^-51 of its size (finer than float32),
+// or from 1 when the point is the origin.
+double CodingScale(const BoundingBox& box) {
+  const double diagonal = box.diagonal();
+  if (diagonal > 0.0) return diagonal;
+  const double largest = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+  return largest > 0.0 ? std::ldexp(largest, -33) : 1.0;
+}
+
+// With `with_meter`, the meter; when the source's KG and STED are undefined (kInvalidSequence
+// from the metrics: a frame whose vertices all coincide, say) and `meter_optional`, none, with the
+// reason, so that such a sequence (degenerate but valid) still encodes.
+StatusOr<SourceScan> ScanForEncode(const EncodeJob& job, bool with_meter, bool meter_optional) {
   SourceScan scan;
+  auto undefined = [&](const Status& status) {
+    return meter_optional && status.code() == ErrorCode::kInvalidSequence;
+  };
   if (with_meter) {
-    DMC_ASSIGN_OR_RETURN(scan.meter, CreateSourceMeter(job.source));
+    StatusOr<StreamingDistortion> meter = CreateSourceMeter(job.source);
+    if (meter.ok()) {
+      scan.meter = std::move(meter).value();
+    } else if (undefined(meter.status())) {
+      scan.not_measured = meter.status().message();
+    } else {
+      return meter.status();
+    }
   }
   DMC_ASSIGN_OR_RETURN(const BoundingBox box,
                        ScanSource(job.source, scan.meter ? &*scan.meter : nullptr,
                                   [&](int done) { job.Progress(EncodeStage::kScan, done); }));
-  if (scan.meter) DMC_RETURN_IF_ERROR(scan.meter->FinishOriginal());
-  scan.diagonal = std::max(box.diagonal(), 1e-12);
+  if (scan.meter) {
+    const Status finished = scan.meter->FinishOriginal();
+    if (undefined(finished)) {
+      scan.not_measured = finished.message();
+      scan.meter.reset();
+    } else {
+      DMC_RETURN_IF_ERROR(finished);
+    }
+  }
+  scan.diagonal = CodingScale(box);
   return scan;
 }
 
 // One encode at fixed parameters after the scan: the prefix, the segments, the end chunk, and
 // with a `meter` (the scan's, or a copy of it) the decode-and-compare pass over the finished
-// stream, read back from the sink when it keeps the bytes, else from a copy taken as written.
+// stream, read back from the sink when it keeps the bytes, else from a copy taken as written;
+// without one but with `decode`, that pass decodes only.
 Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, double diagonal,
-                  StreamingDistortion* meter, StreamSink& sink, EncodeReport& report) {
+                  StreamingDistortion* meter, bool decode, StreamSink& sink, EncodeReport& report) {
   FrameSource& source = job.source;
   DMC_ASSIGN_OR_RETURN(const StreamPlan plan, PlanStream(source.frame_count(), diagonal, options));
   report = EncodeReport();
-  const bool keep_copy = meter && !sink.retained();
+  decode = decode || meter != nullptr;
+  const bool keep_copy = decode && !sink.retained();
   std::vector<uint8_t> copy;
   auto write = [&](std::span<const uint8_t> bytes) -> Status {
     if (keep_copy) copy.insert(copy.end(), bytes.begin(), bytes.end());
     return sink.Append(bytes);
   };
   format::ChunkSizes totals;
-  DMC_RETURN_IF_ERROR(
-      write(StreamPrefix(source.vertex_count(), static_cast<int>(source.triangles().rows()),
-                         source.name(), source.frame_rate(), plan, job.connectivity, totals)));
+  DMC_ASSIGN_OR_RETURN(
+      const std::vector<uint8_t> prefix,
+      StreamPrefix(source.vertex_count(), static_cast<int>(source.triangles().rows()),
+                   source.name(), source.frame_rate(), plan, job.connectivity, totals));
+  DMC_RETURN_IF_ERROR(write(prefix));
   DMC_RETURN_IF_ERROR(EncodeSegments(
       source, job.connectivity, options, plan, job.streaming.segments_in_flight, write,
       [&](int done) { job.Progress(EncodeStage::kEncode, done); }, totals, report));
   DMC_RETURN_IF_ERROR(write(StreamEnd(plan, totals)));
   FillRateReport(plan, source.vertex_count(), sink.size(), totals, report);
-  if (meter) {
+  if (decode) {
     const std::vector<uint8_t>& stream = keep_copy ? copy : *sink.retained();
     DMC_ASSIGN_OR_RETURN(
         report.distortion,
-        MeasureStream(source, stream, job.connectivity.vertex_order, plan, *meter,
+        MeasureStream(source, stream, job.connectivity.vertex_order, plan, meter,
                       [&](int done) { job.Progress(EncodeStage::kMeasure, done); }));
-    report.measured = true;
+    report.measured = meter != nullptr;
   }
   return Status::Ok();
 }
@@ -161,7 +201,8 @@ Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, double di
 Status EncodeWithRateSearch(const EncodeJob& job, const EncoderOptions& options, StreamSink& sink,
                             EncodeReport& report) {
   const bool measure_trials = options.target_sted > 0.0;
-  DMC_ASSIGN_OR_RETURN(SourceScan scan, ScanForEncode(job, measure_trials || options.measure));
+  DMC_ASSIGN_OR_RETURN(SourceScan scan, ScanForEncode(job, measure_trials || options.measure,
+                                                      /*meter_optional=*/!measure_trials));
   std::vector<uint8_t> best;
   EncoderOptions chosen;
   DMC_RETURN_IF_ERROR(SearchResidualStep(
@@ -173,7 +214,7 @@ Status EncodeWithRateSearch(const EncodeJob& job, const EncoderOptions& options,
         MemorySink trial_sink;
         EncodeReport trial_report;
         DMC_RETURN_IF_ERROR(EncodeOnce(job, trial, scan.diagonal,
-                                       trial_meter ? &*trial_meter : nullptr, trial_sink,
+                                       trial_meter ? &*trial_meter : nullptr, false, trial_sink,
                                        trial_report));
         const bool meets = MeetsRateTarget(options, trial_report);
         if (meets) {
@@ -184,14 +225,15 @@ Status EncodeWithRateSearch(const EncodeJob& job, const EncoderOptions& options,
         return meets;
       }));
   DMC_RETURN_IF_ERROR(sink.Append(best));
+  report.not_measured_reason = scan.not_measured;
   if (!options.measure || report.measured) return Status::Ok();
   DMC_ASSIGN_OR_RETURN(const StreamPlan plan,
                        PlanStream(job.source.frame_count(), scan.diagonal, chosen));
-  DMC_ASSIGN_OR_RETURN(
-      report.distortion,
-      MeasureStream(job.source, best, job.connectivity.vertex_order, plan, *scan.meter,
-                    [&](int done) { job.Progress(EncodeStage::kMeasure, done); }));
-  report.measured = true;
+  DMC_ASSIGN_OR_RETURN(report.distortion,
+                       MeasureStream(job.source, best, job.connectivity.vertex_order, plan,
+                                     scan.meter ? &*scan.meter : nullptr,
+                                     [&](int done) { job.Progress(EncodeStage::kMeasure, done); }));
+  report.measured = scan.meter.has_value();
   return Status::Ok();
 }
 
@@ -202,8 +244,12 @@ Status RunEncoder(FrameSource& source, const ConnectivityCode& connectivity,
                   StreamSink& sink, EncodeReport& report) {
   const EncodeJob job{source, connectivity, streaming};
   if (HasRateTarget(options)) return EncodeWithRateSearch(job, options, sink, report);
-  DMC_ASSIGN_OR_RETURN(SourceScan scan, ScanForEncode(job, options.measure));
-  return EncodeOnce(job, options, scan.diagonal, scan.meter ? &*scan.meter : nullptr, sink, report);
+  DMC_ASSIGN_OR_RETURN(SourceScan scan,
+                       ScanForEncode(job, options.measure, /*meter_optional=*/true));
+  DMC_RETURN_IF_ERROR(EncodeOnce(job, options, scan.diagonal, scan.meter ? &*scan.meter : nullptr,
+                                 options.measure, sink, report));
+  report.not_measured_reason = scan.not_measured;
+  return Status::Ok();
 }
 
 StatusOr<ConnectivityCode> EncodeSourceConnectivity(FrameSource& source,

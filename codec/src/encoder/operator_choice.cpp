@@ -36,7 +36,9 @@ Matrix SampledFrameRows(const Matrix& rows, const std::vector<int>& frames) {
 // buffer released as soon as the next step no longer needs it: the deltas once solved, the
 // operator once factored, and the decoded frames allocated only after the solve (the
 // factorisation and the solve's right-hand sides are the peak). `factor` is used when it fits the
-// coding, else the factorisation is made here and, with `keep`, handed back through it.
+// coding, else the factorisation is made here and, with `keep`, handed back through it. An error
+// is what the decoder would report on the coding (it must not be written); a coding the decoder
+// rebuilds but whose STED is undefined gives NaN.
 StatusOr<double> ReconstructedSted(const MeasuredFrames& measured, const MeshTopology& topology,
                                    SegmentSyntax& syntax, const Eigen::VectorXd& mean,
                                    const Eigen::MatrixXd& basis,
@@ -58,8 +60,9 @@ StatusOr<double> ReconstructedSted(const MeasuredFrames& measured, const MeshTop
   DMC_RETURN_IF_ERROR(
       SynthesizeFrames(mean, basis, coefficients, decoded.frame_count(), decoded.data()));
   coefficients = Eigen::MatrixXd();
-  DMC_ASSIGN_OR_RETURN(const DistortionReport report, measured.meter->Measure(decoded));
-  return report.sted;
+  if (!measured.meter) return std::numeric_limits<double>::quiet_NaN();
+  const StatusOr<DistortionReport> report = measured.meter->Measure(decoded);
+  return report.ok() ? report->sted : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace
@@ -97,6 +100,7 @@ StatusOr<SegmentCoding> ChooseDdlWeights(const std::vector<double>& fitted,
     coding.header = header;
     coding.operator_payload = syntax::WriteDdlWeights(fitted, topology, options.weight_bits, mode,
                                                       &trial.edge_weights, dead_zone);
+    DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(trial.edge_weights, options.weight_bits));
     DMC_ASSIGN_OR_RETURN(coding.residual_payload, write_residuals(trial));
     coding.edge_weights = std::move(trial.edge_weights);
     if (!best || coding.payload_bytes() < best->payload_bytes()) best = std::move(coding);
@@ -121,10 +125,15 @@ std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& d
     target.header = ddl_header;
     target.header.operator_id = static_cast<uint8_t>(id);
     target.header.residual_step *= step_scale;
+    // A candidate the format cannot carry here (its step, or the reference frame, out of range)
+    // is left out.
+    if (!syntax::CheckStep(target.header.residual_step, "", "").ok()) continue;
     SegmentCoding coding;
     if (id == OperatorId::kMeanValue) {
-      coding.operator_payload = syntax::WriteReferenceFrame(mean_shape, topology, reference_step,
-                                                            &target.reference_frame);
+      const double step = ReferenceFrameStep(mean_shape, reference_step);
+      if (!syntax::CheckStep(step, "", "").ok()) continue;
+      coding.operator_payload =
+          syntax::WriteReferenceFrame(mean_shape, topology, step, &target.reference_frame);
     }
     StatusOr<std::vector<uint8_t>> residuals = write_residuals(target);
     if (!residuals.ok()) continue;
@@ -136,18 +145,30 @@ std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& d
   return candidates;
 }
 
-SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTopology& topology,
-                                    const std::vector<int32_t>& vertex_order,
-                                    const SegmentSyntax& shared, std::vector<SegmentCoding> codings,
-                                    const OperatorChoiceOptions& choice) {
+double ReferenceFrameStep(const Eigen::MatrixXd& frame, double step) {
+  const double largest = frame.size() == 0 ? 0.0 : frame.cwiseAbs().maxCoeff();
+  return std::max(step, std::ldexp(largest, -39));
+}
+
+bool FactorsByConstruction(uint8_t operator_id) {
+  return operator_id == static_cast<uint8_t>(OperatorId::kKirchhoff) ||
+         operator_id == static_cast<uint8_t>(OperatorId::kTutte);
+}
+
+StatusOr<SegmentCoding> ChooseSegmentOperator(const MeasuredFrames& measured,
+                                              const MeshTopology& topology,
+                                              const std::vector<int32_t>& vertex_order,
+                                              const SegmentSyntax& shared,
+                                              std::vector<SegmentCoding> codings,
+                                              const OperatorChoiceOptions& choice) {
+  if (codings.empty()) return InternalError("no coding of the segment to choose from");
   const int v_count = measured.original.vertex_count();
   const int frame_count = static_cast<int>(shared.header.frame_count);
   const double slope = kStedSlopeBits * v_count * frame_count;
-  // No STED for this segment (e.g. an edge of length zero in every frame): keep the first.
-  if (!measured.meter) return std::move(codings.front());
   // The candidates worth measuring: rate alone rules out those that only a STED more than
-  // prune_sted_ratio times lower could bring level with the smallest payload.
-  std::vector<size_t> measure;
+  // prune_sted_ratio times lower could bring level with the smallest payload. The others are
+  // kept, in order, for when none of those decodes.
+  std::vector<size_t> measure, reserve;
   size_t smallest = 0;
   for (size_t c = 1; c < codings.size(); ++c) {
     if (codings[c].payload_bytes() < codings[smallest].payload_bytes()) smallest = c;
@@ -155,11 +176,14 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
   for (size_t c = 0; c < codings.size(); ++c) {
     const double excess = 8.0 * (static_cast<double>(codings[c].payload_bytes()) -
                                  static_cast<double>(codings[smallest].payload_bytes()));
-    if (choice.prune_sted_ratio <= 0.0 || excess <= slope * std::log(choice.prune_sted_ratio)) {
-      measure.push_back(c);
-    }
+    const bool worth = measured.meter && (choice.prune_sted_ratio <= 0.0 ||
+                                          excess <= slope * std::log(choice.prune_sted_ratio));
+    (worth ? measure : reserve).push_back(c);
   }
-  if (measure.size() == 1 && !choice.need_sted) return std::move(codings[measure.front()]);
+  if (measure.size() == 1 && !choice.need_sted &&
+      FactorsByConstruction(codings[measure.front()].header.operator_id)) {
+    return std::move(codings[measure.front()]);
+  }
   const Eigen::VectorXd measured_mean = SampledFrameRows(shared.mean, measured.frames);
   const Eigen::MatrixXd measured_basis = SampledFrameRows(shared.basis, measured.frames);
   SegmentSyntax syntax;
@@ -168,8 +192,11 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
   syntax.anchors = shared.anchors;
   syntax.anchor_values = shared.anchor_values;
   // One candidate at a time (each measurement's solve, synthesis and metric run in parallel
-  // within): only the best-so-far's factorisation is kept, so at most two exist at once.
-  auto cost = [&](SegmentCoding& coding, std::optional<AnchoredLaplacianSolver>* keep) {
+  // within): only the best-so-far's factorisation is kept, so at most two exist at once. A
+  // coding the decoder would reject (its normal matrix not positive definite, say) gives its
+  // error; one it rebuilds without a STED, NaN.
+  auto cost = [&](SegmentCoding& coding,
+                  std::optional<AnchoredLaplacianSolver>* keep) -> StatusOr<double> {
     // The coding's operator inputs are lent to the syntax for the measurement.
     syntax.header = coding.header;
     std::swap(syntax.edge_weights, coding.edge_weights);
@@ -184,31 +211,81 @@ SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTo
     syntax.delta = Eigen::MatrixXd();
     std::swap(syntax.edge_weights, coding.edge_weights);
     std::swap(syntax.reference_frame, coding.reference_frame);
-    if (!sted.ok() || !std::isfinite(*sted)) return std::numeric_limits<double>::quiet_NaN();
+    if (!sted.ok()) return sted.status();
+    if (!std::isfinite(*sted)) return std::numeric_limits<double>::quiet_NaN();
     coding.sted = *sted;
     return 8.0 * static_cast<double>(coding.payload_bytes()) +
            slope * std::log(std::max(*sted, 1e-300));
   };
   const bool keep = choice.keep_factor != nullptr;
   std::optional<AnchoredLaplacianSolver> best_factor, factor;
-  size_t best = measure.front();
-  const double first_cost = cost(codings[best], keep ? &best_factor : nullptr);
-  double best_cost = first_cost;
-  for (size_t m = 1; m < measure.size() && std::isfinite(first_cost); ++m) {
-    const double candidate_cost = cost(codings[measure[m]], keep ? &factor : nullptr);
-    if (candidate_cost < best_cost) {  // false for NaN
-      best_cost = candidate_cost;
-      best = measure[m];
+  std::optional<size_t> best;
+  double best_cost = std::numeric_limits<double>::quiet_NaN();
+  Status first_failure;
+  // The cheapest measured coding that decodes; when the first that decodes has no STED, it alone
+  // (nothing to compare with).
+  for (const size_t c : measure) {
+    StatusOr<double> candidate_cost = cost(codings[c], keep ? &factor : nullptr);
+    if (!candidate_cost.ok()) {
+      if (first_failure.ok()) first_failure = candidate_cost.status();
+      factor.reset();
+      continue;
+    }
+    if (!best) {
+      best = c;
+      best_cost = *candidate_cost;
+      best_factor = std::move(factor);
+      if (!std::isfinite(best_cost)) break;
+    } else if (*candidate_cost < best_cost) {  // false for NaN
+      best = c;
+      best_cost = *candidate_cost;
       best_factor = std::move(factor);
     }
     factor.reset();
   }
+  // None measured decodes: the first of the others that does.
+  for (size_t r = 0; !best && r < reserve.size(); ++r) {
+    SegmentCoding& coding = codings[reserve[r]];
+    const StatusOr<double> decodes = FactorsByConstruction(coding.header.operator_id)
+                                         ? StatusOr<double>(0.0)
+                                         : cost(coding, keep ? &best_factor : nullptr);
+    if (decodes.ok()) {
+      best = reserve[r];
+    } else {
+      if (first_failure.ok()) first_failure = decodes.status();
+      best_factor.reset();
+    }
+  }
+  if (!best) {
+    return first_failure.WithContext("segment at frame " +
+                                     std::to_string(shared.header.first_frame) +
+                                     ": no candidate operator decodes");
+  }
   if (keep && best_factor) {
-    choice.keep_factor->operator_id = codings[best].header.operator_id;
-    choice.keep_factor->edge_weights = codings[best].edge_weights;
+    choice.keep_factor->operator_id = codings[*best].header.operator_id;
+    choice.keep_factor->edge_weights = codings[*best].edge_weights;
     choice.keep_factor->solver = std::move(best_factor);
   }
-  return std::move(codings[best]);
+  return std::move(codings[*best]);
+}
+
+Status CheckCodingDecodes(const MeshTopology& topology, const std::vector<int32_t>& vertex_order,
+                          const SegmentSyntax& shared, const SegmentCoding& coding) {
+  if (coding.header.rank == 0 || FactorsByConstruction(coding.header.operator_id)) {
+    return Status::Ok();
+  }
+  SegmentSyntax syntax;
+  syntax.header = coding.header;
+  syntax.edge_weights = coding.edge_weights;
+  syntax.reference_frame = coding.reference_frame;
+  syntax.anchors = shared.anchors;
+  syntax.anchor_values = shared.anchor_values;
+  DMC_RETURN_IF_ERROR(
+      syntax::ReadResiduals(coding.residual_payload, topology, vertex_order, syntax));
+  DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, syntax));
+  DMC_ASSIGN_OR_RETURN(const AnchoredLaplacianSolver solver,
+                       FactorSegmentOperator(topology, laplace, syntax));
+  return solver.Solve(syntax.delta, syntax.anchor_values).status();
 }
 
 }  // namespace dmc

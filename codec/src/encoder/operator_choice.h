@@ -81,7 +81,8 @@ StatusOr<SegmentCoding> ChooseDdlWeights(const std::vector<double>& fitted,
 // coded, e.g. beyond the format's range at this step, is left out). Kirchhoff's rows sum to the
 // vertex degree, not 1, so its δ are about mean degree times larger: its residual step is scaled
 // by the mean degree to reach a comparable distortion. Mean-value's weights come from the
-// segment's mean shape, coded as the reference frame at reference_step. Every candidate shares
+// segment's mean shape, coded as the reference frame at ReferenceFrameStep(reference_step). A
+// candidate whose step is beyond the format's range is left out too. Every candidate shares
 // the ddl coding's mean, basis and anchors. This is the only step that needs the segment's
 // coefficients: the caller releases them before the candidates are measured. With `only`, that
 // candidate alone.
@@ -129,11 +130,29 @@ struct OperatorChoiceOptions {
 // ties, so the DDL first). `shared` holds what every coding shares (mean, basis, anchors and
 // their values); codings[0] is the DDL's when there is one. The residuals of one coding at a time
 // are decoded from its payload, the decoder's own values, so only one candidate's deltas exist
-// at once. A coding that cannot be measured is not chosen; when the first measured cannot, it is
-// kept.
-SegmentCoding ChooseSegmentOperator(const MeasuredFrames& measured, const MeshTopology& topology,
-                                    const std::vector<int32_t>& vertex_order,
-                                    const SegmentSyntax& shared, std::vector<SegmentCoding> codings,
-                                    const OperatorChoiceOptions& choice);
+// at once. A coding the decoder would reject is never chosen: fitted DDL weights can leave the
+// normal matrix LᵀL + anchors singular (not positive definite), and then the next candidate that
+// decodes is taken, those rate alone ruled out included. When the first coding that decodes has
+// no STED, it is kept. kNumericalFailure (or the decoder's error) when no candidate decodes.
+StatusOr<SegmentCoding> ChooseSegmentOperator(const MeasuredFrames& measured,
+                                              const MeshTopology& topology,
+                                              const std::vector<int32_t>& vertex_order,
+                                              const SegmentSyntax& shared,
+                                              std::vector<SegmentCoding> codings,
+                                              const OperatorChoiceOptions& choice);
+
+// Whether the decoder's normal matrix of an operator is positive definite whatever the segment:
+// kirchhoff's and tutte's weights are positive on every edge, so LᵀL is singular only on the
+// constants of each component, which the anchors (one at least per component) remove.
+bool FactorsByConstruction(uint8_t operator_id);
+
+// What the decoder would report when it rebuilds, factors and solves `coding` (with `shared`'s
+// anchors): OK for a coding it decodes. Needed for codings no measurement decoded.
+Status CheckCodingDecodes(const MeshTopology& topology, const std::vector<int32_t>& vertex_order,
+                          const SegmentSyntax& shared, const SegmentCoding& coding);
+
+// The grid step of a reference frame: `step` (the diagonal · 2^-reference_bits), or coarser when
+// the frame lies so far from the origin that its coordinates would exceed the format's 2^40 steps.
+double ReferenceFrameStep(const Eigen::MatrixXd& frame, double step);
 
 }  // namespace dmc

@@ -11,13 +11,19 @@
 #include "decoder/segment_reconstruction.h"
 #include "dmc/operators.h"
 #include "encoder/anchors.h"
+#include "encoder/codec_operators.h"
 #include "encoder/operator_choice.h"
+#include "encoder/stream_writer.h"
 #include "encoder/syntax_writer.h"
 
 namespace dmc {
 namespace {
 
-constexpr int kMeanStepBits = 18;  // mean trajectory step = diagonal · 2^-18
+// The mean trajectory's step is diagonal · 2^-kMeanStepBits (stream_writer.h), or coarser, when the
+// mean lies so far from the origin (beyond 2^33 diagonals) that its values would exceed the
+// format's 2^52 steps: the step is then 2^-51 of the largest value, far below the float32
+// resolution of the input there.
+constexpr int kMeanMagnitudeBits = 51;
 
 // Ranks are compared by bits · STED^kRankStedElasticity, lowest wins. The encode ladders of samba,
 // crane and horse-gallop follow bits ∝ STED^-0.8 closely (the local slope of bpfv against ln STED
@@ -113,8 +119,8 @@ std::vector<int> SegmentEncoder::CandidateRanks(const Eigen::VectorXd& eigenvalu
 // their decoded values) and the projection. A basis column is quantised on its own, so a lower
 // rank's decoded basis is the first columns of the top rank's, and one projection serves every
 // rank.
-SegmentEncoder::Segment SegmentEncoder::Prepare(SegmentTrajectories trajectories,
-                                                int first_frame) const {
+StatusOr<SegmentEncoder::Segment> SegmentEncoder::Prepare(SegmentTrajectories trajectories,
+                                                          int first_frame) const {
   Segment segment;
   segment.vertex_count = static_cast<int>(trajectories.rows());
   const int frame_count = static_cast<int>(trajectories.cols() / 3);
@@ -132,6 +138,15 @@ SegmentEncoder::Segment SegmentEncoder::Prepare(SegmentTrajectories trajectories
   if (segment.anchors.empty()) segment.anchors.push_back(0);
   segment.header.anchor_count = static_cast<uint32_t>(segment.anchors.size());
 
+  if (pca.mean.size() > 0) {
+    segment.header.mean_step = std::max(
+        segment.header.mean_step, std::ldexp(pca.mean.cwiseAbs().maxCoeff(), -kMeanMagnitudeBits));
+  }
+  DMC_RETURN_IF_ERROR(syntax::CheckStep(segment.header.mean_step, "the mean step",
+                                        "rescale the input (smaller coordinates)"));
+  DMC_RETURN_IF_ERROR(syntax::CheckQuantisedRange(pca.mean, segment.header.mean_step,
+                                                  syntax::kMaxMeanMagnitude,
+                                                  "a mean trajectory value", ""));
   SegmentSyntax& syntax = segment.syntax;
   syntax.header = segment.header;
   syntax.header.rank = static_cast<uint32_t>(top_rank);
@@ -154,7 +169,7 @@ SegmentEncoder::Segment SegmentEncoder::Prepare(SegmentTrajectories trajectories
 
 StatusOr<SegmentResult> SegmentEncoder::Encode(SegmentTrajectories trajectories, int first_frame,
                                                ByteWriter& out) const {
-  Segment segment = Prepare(std::move(trajectories), first_frame);
+  DMC_ASSIGN_OR_RETURN(Segment segment, Prepare(std::move(trajectories), first_frame));
   // One rank at a time, keeping only the cheapest coding: the top rank's when the costs are not
   // measured, the higher rank on ties.
   const std::vector<int>& ranks = segment.ranks;
@@ -166,6 +181,7 @@ StatusOr<SegmentResult> SegmentEncoder::Encode(SegmentTrajectories trajectories,
     StatusOr<RankCoding> candidate = CodeAtRank(segment, ranks[c], next_rank(c));
     if (candidate.ok() && candidate->cost < best.cost) best = std::move(candidate).value();
   }
+  DMC_RETURN_IF_ERROR(syntax::CheckSegmentHeader(best.header, segment.vertex_count));
   return AppendChunks(segment, best, out);
 }
 
@@ -199,6 +215,11 @@ StatusOr<SegmentEncoder::RankCoding> SegmentEncoder::CodeAtRank(Segment& segment
   }
   Eigen::MatrixXd coefficients = SolveCoefficients(segment, rank, next_rank);
   // Anchors before the operator: the DDL trials reconstruct with them.
+  for (const int32_t a : segment.anchors) {
+    DMC_RETURN_IF_ERROR(syntax::CheckQuantisedRange(
+        coefficients.row(a), syntax.header.anchor_step, syntax::kMaxSignedMagnitude,
+        "the coefficient of anchor " + std::to_string(a), "use a larger anchor step ratio"));
+  }
   coding.anchor_payload =
       syntax::WriteAnchors(segment.anchors, coefficients, syntax.header, &syntax.anchor_values);
   syntax.anchors = segment.anchors;
@@ -292,11 +313,12 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
     if (top && !plan_.operators_at_every_rank && !plan_.refit_at_every_rank && next_rank != 0) {
       choice.keep_factor = &segment.factor;
     }
-    chosen = ChooseSegmentOperator(*segment.measured, topology_, vertex_order_, syntax,
-                                   std::move(codings), choice);
+    DMC_ASSIGN_OR_RETURN(chosen, ChooseSegmentOperator(*segment.measured, topology_, vertex_order_,
+                                                       syntax, std::move(codings), choice));
     if (next_rank == 0) segment.factor = MeasuredFactor();
   } else {
-    chosen = std::move(codings.front());
+    DMC_ASSIGN_OR_RETURN(chosen,
+                         DecodableCoding(segment, std::move(codings.front()), coefficients));
   }
   coding.header = chosen.header;
   coding.operator_payload = std::move(chosen.operator_payload);
@@ -309,6 +331,26 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
   return Status::Ok();
 }
 
+// Without the fallback's measurement nothing has decoded the ddl coding: checked here, and when
+// the decoder would reject it (fitted weights that leave the normal matrix singular), the
+// fallback's first candidate that decodes takes its place (kirchhoff's, whose normal matrix is
+// positive definite by construction).
+StatusOr<SegmentCoding> SegmentEncoder::DecodableCoding(const Segment& segment, SegmentCoding ddl,
+                                                        const Eigen::MatrixXd& coefficients) const {
+  const Status decodes = CheckCodingDecodes(topology_, vertex_order_, segment.syntax, ddl);
+  if (decodes.ok()) return ddl;
+  for (SegmentCoding& candidate :
+       CodeFallbackCandidates(segment.syntax.header, topology_, segment.mean_shape,
+                              std::ldexp(diagonal_, -options_.reference_bits),
+                              ResidualWriter(topology_, vertex_order_, coefficients))) {
+    if (CheckCodingDecodes(topology_, vertex_order_, segment.syntax, candidate).ok()) {
+      return std::move(candidate);
+    }
+  }
+  return decodes.WithContext("segment at frame " + std::to_string(segment.header.first_frame) +
+                             ": no operator decodes");
+}
+
 // An operator without a fit: a geometric one from the coded mean shape, a combinatorial one from
 // the connectivity alone, or at rank 0 the ddl's predicted weights (nothing to reconstruct).
 Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
@@ -318,20 +360,37 @@ Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
   if (format::IsGeometricOperator(static_cast<uint8_t>(operator_id_))) {
     // The reference frame is the segment's mean shape, coded so both sides build the same
     // geometric operator from it.
-    coding.operator_payload = syntax::WriteReferenceFrame(
-        segment.mean_shape, topology_, std::ldexp(diagonal_, -options_.reference_bits),
-        &syntax.reference_frame);
+    const double step =
+        ReferenceFrameStep(segment.mean_shape, std::ldexp(diagonal_, -options_.reference_bits));
+    DMC_RETURN_IF_ERROR(syntax::CheckStep(step, "the reference frame step",
+                                          "rescale the input (smaller coordinates)"));
+    coding.operator_payload =
+        syntax::WriteReferenceFrame(segment.mean_shape, topology_, step, &syntax.reference_frame);
   } else if (operator_id_ == OperatorId::kDdl) {
     const std::vector<double> unused(topology_.edges.size(), 0.0);
     coding.operator_payload =
         syntax::WriteDdlWeights(unused, topology_, options_.weight_bits, weight_prediction_,
                                 &syntax.edge_weights, std::numeric_limits<double>::infinity());
+    DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(syntax.edge_weights, options_.weight_bits));
   }
   if (rank > 0) {
     DMC_ASSIGN_OR_RETURN(coding.residual_payload,
                          ResidualWriter(topology_, vertex_order_, coefficients)(syntax));
   }
   coding.header = syntax.header;
+  if (rank > 0 && !FactorsByConstruction(syntax.header.operator_id)) {
+    // A geometric operator from degenerate geometry can leave the normal matrix singular: refused
+    // rather than written, since the operator was asked for.
+    SegmentCoding check;
+    check.header = coding.header;
+    check.residual_payload = coding.residual_payload;
+    check.reference_frame = syntax.reference_frame;
+    DMC_RETURN_IF_ERROR(CheckCodingDecodes(topology_, vertex_order_, syntax, check)
+                            .WithContext("segment at frame " +
+                                         std::to_string(syntax.header.first_frame) + ": the " +
+                                         std::string(CodecOperatorName(operator_id_)) +
+                                         " operator does not decode here (use another operator)"));
+  }
   return Status::Ok();
 }
 

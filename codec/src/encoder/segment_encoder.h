@@ -54,11 +54,13 @@ class SegmentEncoder {
                                   int vertex_count) const;
   StatusOr<SegmentCoding> CodeDdlWeights(Segment& segment, Eigen::MatrixXd& coefficients,
                                          bool top) const;
-  Segment Prepare(SegmentTrajectories trajectories, int first_frame) const;
+  StatusOr<Segment> Prepare(SegmentTrajectories trajectories, int first_frame) const;
   StatusOr<RankCoding> CodeAtRank(Segment& segment, int rank, int next_rank) const;
   Eigen::MatrixXd SolveCoefficients(Segment& segment, int rank, int next_rank) const;
   Status CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, int next_rank, bool top,
                  RankCoding& coding) const;
+  StatusOr<SegmentCoding> DecodableCoding(const Segment& segment, SegmentCoding ddl,
+                                          const Eigen::MatrixXd& coefficients) const;
   Status CodeFixedOperator(Segment& segment, int rank, const Eigen::MatrixXd& coefficients,
                            RankCoding& coding) const;
   SegmentResult AppendChunks(const Segment& segment, const RankCoding& coding,

@@ -24,6 +24,20 @@ void RestoreInputLabels(const std::vector<int32_t>& relabel, int vertex_count, i
   }
 }
 
+// The decoder's verdict on a stream the encoder wrote: a rejection is the encoder's bug.
+Status OwnStreamStatus(const Status& status) {
+  switch (status.code()) {
+    case ErrorCode::kCorruptStream:
+    case ErrorCode::kTruncatedStream:
+    case ErrorCode::kUnsupported:
+    case ErrorCode::kNumericalFailure:
+      return InternalError("the decoder rejects the encoded stream (a bug in the encoder): " +
+                           status.ToString());
+    default:
+      return status.WithContext("decoding the encoded stream");
+  }
+}
+
 }  // namespace
 
 StatusOr<StreamingDistortion> CreateSourceMeter(FrameSource& source) {
@@ -35,36 +49,41 @@ StatusOr<StreamingDistortion> CreateSourceMeter(FrameSource& source) {
 
 StatusOr<DistortionReport> MeasureStream(FrameSource& source, std::span<const uint8_t> stream,
                                          const std::vector<int32_t>& relabel,
-                                         const StreamPlan& plan, StreamingDistortion& meter,
+                                         const StreamPlan& plan, StreamingDistortion* meter,
                                          const std::function<void(int)>& progress) {
   Decoder decoder;
-  DMC_RETURN_IF_ERROR(decoder.Open(stream).WithContext("decoding the encoded stream"));
+  DMC_RETURN_IF_ERROR(OwnStreamStatus(decoder.Open(stream)));
   const int v_count = source.vertex_count();
   const size_t per_frame = static_cast<size_t>(v_count) * 3;
   std::vector<float> decoded, original;
   const int frames_per_read = FramesPerRead(v_count, plan.frames);
   for (int s = 0; s < plan.segments(); ++s) {
     const int first = plan.segment_first[s], count = plan.segment_frames(s);
-    DMC_RETURN_IF_ERROR(decoder.DecodeSegmentInto(s, [&](int) -> StatusOr<float*> {
+    DMC_RETURN_IF_ERROR(OwnStreamStatus(decoder.DecodeSegmentInto(s, [&](int) -> StatusOr<float*> {
       decoded.resize(per_frame * static_cast<size_t>(count));
       return decoded.data();
-    }));
+    })));
+    if (meter == nullptr) {
+      progress(first + count);
+      continue;
+    }
     if (!relabel.empty()) RestoreInputLabels(relabel, v_count, count, decoded);
     // The meter takes any consecutive frame ranges: the segment goes in read-sized blocks, so the
     // original frames in memory are one block and its speed window, not a whole segment.
     for (int block = first; block < first + count; block += frames_per_read) {
       const int block_count = std::min(frames_per_read, first + count - block);
-      const auto [window_first, window_end] = meter.OriginalWindow(block, block_count);
+      const auto [window_first, window_end] = meter->OriginalWindow(block, block_count);
       original.resize(per_frame * static_cast<size_t>(window_end - window_first));
       DMC_RETURN_IF_ERROR(
           source.ReadFrames(window_first, window_end - window_first, original.data()));
       DMC_RETURN_IF_ERROR(
-          meter.AddSegment(block, block_count, original.data(),
-                           decoded.data() + per_frame * static_cast<size_t>(block - first)));
+          meter->AddSegment(block, block_count, original.data(),
+                            decoded.data() + per_frame * static_cast<size_t>(block - first)));
     }
     progress(first + count);
   }
-  return meter.Report();
+  if (meter == nullptr) return DistortionReport();
+  return meter->Report();
 }
 
 }  // namespace dmc

@@ -23,10 +23,12 @@ StatusOr<StreamingDistortion> CreateSourceMeter(FrameSource& source);
 // to input vertex labels (output vertex i is input vertex relabel[i]; empty: not reordered), and
 // adds each segment to `meter`, whose original terms are complete. Memory: one segment of decoded
 // frames and one read block of originals with its speed window. `progress(frames done)` per
-// segment.
+// segment. With a null `meter` the stream is only decoded (for a source whose distortion is
+// undefined), and the report is empty. A stream the decoder rejects is kInternal: the encoder
+// checks what it writes, so that is a bug in it, not a damaged input.
 StatusOr<DistortionReport> MeasureStream(FrameSource& source, std::span<const uint8_t> stream,
                                          const std::vector<int32_t>& relabel,
-                                         const StreamPlan& plan, StreamingDistortion& meter,
+                                         const StreamPlan& plan, StreamingDistortion* meter,
                                          const std::function<void(int)>& progress);
 
 }  // namespace dmc

@@ -1,6 +1,8 @@
 #include "encoder/stream_writer.h"
 
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "encoder/codec_operators.h"
 #include "encoder/syntax_writer.h"
@@ -10,6 +12,30 @@ namespace dmc {
 namespace {
 
 constexpr int kDefaultSegmentFrames = 256;  // frames per segment unless options.segment_frames
+
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+// The steps every segment derives from the plan, against the format's 2^64 (spec §8.1), before
+// anything is coded: far beyond float32 data at ordinary scales, so the remedy is a smaller input.
+Status CheckPlannedSteps(const StreamPlan& plan, const EncoderOptions& options) {
+  const std::string diagonal = "the bounding-box diagonal " + Number(plan.diagonal);
+  const std::string remedy = options.residual_step > 0.0
+                                 ? "use a smaller residual step"
+                                 : "rescale the input: with " +
+                                       std::to_string(options.residual_bits) + " residual bits, " +
+                                       diagonal + " must be at most " +
+                                       Number(std::ldexp(syntax::kMaxStep, options.residual_bits));
+  DMC_RETURN_IF_ERROR(syntax::CheckStep(plan.residual_step, "the residual step", remedy));
+  DMC_RETURN_IF_ERROR(syntax::CheckStep(plan.residual_step * options.anchor_step_ratio,
+                                        "the anchor step", "use a smaller anchor step ratio"));
+  return syntax::CheckStep(std::ldexp(plan.diagonal, -kMeanStepBits), "the mean step",
+                           "rescale the input: " + diagonal + " must be at most " +
+                               Number(std::ldexp(syntax::kMaxStep, kMeanStepBits)));
+}
 
 }  // namespace
 
@@ -28,13 +54,15 @@ StatusOr<StreamPlan> PlanStream(int frames, double diagonal, const EncoderOption
     plan.segment_first[s + 1] =
         plan.segment_first[s] + frames / segments + (s < frames % segments ? 1 : 0);
   }
+  DMC_RETURN_IF_ERROR(CheckPlannedSteps(plan, options));
   return plan;
 }
 
-std::vector<uint8_t> StreamPrefix(int vertex_count, int triangle_count, const std::string& name,
-                                  double frame_rate, const StreamPlan& plan,
-                                  const ConnectivityCode& connectivity,
-                                  format::ChunkSizes& totals) {
+StatusOr<std::vector<uint8_t>> StreamPrefix(int vertex_count, int triangle_count,
+                                            const std::string& name, double frame_rate,
+                                            const StreamPlan& plan,
+                                            const ConnectivityCode& connectivity,
+                                            format::ChunkSizes& totals) {
   ByteWriter out;
   for (uint8_t byte : format::kMagic) out.PutU8(byte);
   out.PutU8(format::kVersionMajor);
@@ -48,6 +76,7 @@ std::vector<uint8_t> StreamPrefix(int vertex_count, int triangle_count, const st
   header.frame_rate = frame_rate;
   header.name = name;
   if (!connectivity.vertex_order.empty()) header.flags |= format::kFlagReordered;
+  DMC_RETURN_IF_ERROR(syntax::CheckSequenceHeader(header));
   syntax::AppendChunk(out, format::ChunkType::kSequenceHeader, syntax::WriteSequenceHeader(header));
   totals.header += out.size();  // includes magic and version
   const size_t before = out.size();
@@ -104,9 +133,17 @@ void FillRateReport(const StreamPlan& plan, int vertex_count, uint64_t bytes,
 }
 
 Status CheckFormatLimits(int vertex_count, int frame_count) {
-  if (static_cast<uint64_t>(frame_count) > format::kMaxFrames ||
-      static_cast<uint64_t>(vertex_count) > format::kMaxVertices) {
+  const auto vertices = static_cast<uint64_t>(vertex_count);
+  const auto frames = static_cast<uint64_t>(frame_count);
+  if (frames > format::kMaxFrames || vertices > format::kMaxVertices) {
     return UnsupportedError("sequence exceeds the format's limits");
+  }
+  // Spec §6.2: a decoder refuses more than 16 GiB of float32 positions.
+  if (12 * vertices * frames > (uint64_t{1} << 34)) {
+    return UnsupportedError("the sequence's " + std::to_string(vertices) + " vertices × " +
+                            std::to_string(frames) +
+                            " frames exceed the format's 16 GiB of positions per stream: encode "
+                            "it in parts (fewer frames each)");
   }
   return Status::Ok();
 }

@@ -28,12 +28,20 @@ struct StreamPlan {
   int segment_frames(int s) const { return segment_first[s + 1] - segment_first[s]; }
 };
 
+// The mean trajectory's step is diagonal · 2^-kMeanStepBits (or coarser, SegmentEncoder).
+inline constexpr int kMeanStepBits = 18;
+
+// kUnsupported when the residual, anchor or mean step it implies is beyond the format's range
+// (a diagonal above about 1.9e22 at 10 residual bits), naming the step and the remedy.
 StatusOr<StreamPlan> PlanStream(int frames, double diagonal, const EncoderOptions& options);
 
-// Magic, version, the sequence header chunk and the connectivity chunk.
-std::vector<uint8_t> StreamPrefix(int vertex_count, int triangle_count, const std::string& name,
-                                  double frame_rate, const StreamPlan& plan,
-                                  const ConnectivityCode& connectivity, format::ChunkSizes& totals);
+// Magic, version, the sequence header chunk and the connectivity chunk; kUnsupported for a frame
+// rate the format cannot carry.
+StatusOr<std::vector<uint8_t>> StreamPrefix(int vertex_count, int triangle_count,
+                                            const std::string& name, double frame_rate,
+                                            const StreamPlan& plan,
+                                            const ConnectivityCode& connectivity,
+                                            format::ChunkSizes& totals);
 
 // The end chunk: it counts the chunks before it (sequence header, connectivity, 6 per segment).
 std::vector<uint8_t> StreamEnd(const StreamPlan& plan, format::ChunkSizes& totals);

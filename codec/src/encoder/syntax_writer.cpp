@@ -1,7 +1,10 @@
 #include "encoder/syntax_writer.h"
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -9,6 +12,81 @@
 #include "encoder/range_encoder.h"
 
 namespace dmc::syntax {
+
+namespace {
+
+// Six significant digits, as %g prints them.
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+std::string Remedy(std::string_view remedy) {
+  return remedy.empty() ? std::string() : ": " + std::string(remedy);
+}
+
+}  // namespace
+
+Status CheckStep(double step, std::string_view what, std::string_view remedy) {
+  if (std::isfinite(step) && step > 0.0 && step <= kMaxStep) return Status::Ok();
+  return UnsupportedError(std::string(what) + " " + Number(step) +
+                          " is outside the format's range (0, 2^64 = " + Number(kMaxStep) + "]" +
+                          Remedy(remedy));
+}
+
+Status CheckQuantisedRange(const Eigen::Ref<const Eigen::MatrixXd>& values, double step,
+                           int64_t limit, std::string_view what, std::string_view remedy) {
+  if (values.size() == 0) return Status::Ok();
+  const double largest = values.cwiseAbs().maxCoeff();
+  // llround(x) stays within [-limit, limit] exactly when |x| < limit + 0.5; NaN fails too.
+  const double steps = largest / step;
+  if (steps < static_cast<double>(limit) + 0.5) return Status::Ok();
+  return UnsupportedError(
+      std::string(what) + " " + Number(largest) + " is " + Number(steps) +
+      " quantisation steps of " + Number(step) + ", beyond the format's limit of 2^" +
+      std::to_string(std::bit_width(static_cast<uint64_t>(limit)) - 1) + Remedy(remedy));
+}
+
+Status CheckSequenceHeader(const format::SequenceHeader& header) {
+  if (!(std::isfinite(header.frame_rate) && header.frame_rate >= 0.0)) {
+    return UnsupportedError(
+        "frame rate " + Number(header.frame_rate) +
+        " is not finite and non-negative, as the format requires (0 = unknown)");
+  }
+  return Status::Ok();
+}
+
+Status CheckSegmentHeader(const format::SegmentHeader& h, int vertex_count) {
+  if (h.frame_count < 1 || h.frame_count > format::kMaxSegmentFrames ||
+      h.rank > std::min<uint64_t>(format::kMaxRank, 3 * uint64_t{h.frame_count}) ||
+      h.anchor_count < 1 || h.anchor_count > static_cast<uint32_t>(vertex_count)) {
+    return InternalError("segment at frame " + std::to_string(h.first_frame) + ": " +
+                         std::to_string(h.frame_count) + " frames, rank " + std::to_string(h.rank) +
+                         ", " + std::to_string(h.anchor_count) +
+                         " anchors are outside the format's ranges");
+  }
+  constexpr std::string_view kRescale = "rescale the input (smaller coordinates)";
+  DMC_RETURN_IF_ERROR(CheckStep(h.mean_step, "the mean step", kRescale));
+  DMC_RETURN_IF_ERROR(CheckStep(h.residual_step, "the residual step", kRescale));
+  DMC_RETURN_IF_ERROR(CheckStep(h.anchor_step, "the anchor step", kRescale));
+  if (!(h.anchor_weight >= std::ldexp(1.0, -32) && h.anchor_weight <= std::ldexp(1.0, 32))) {
+    return InternalError("anchor weight " + Number(h.anchor_weight) + " is outside [2^-32, 2^32]");
+  }
+  return Status::Ok();
+}
+
+Status CheckDdlWeights(const std::vector<int64_t>& weights, int weight_bits) {
+  const int64_t limit = int64_t{256} << weight_bits;
+  for (size_t e = 0; e < weights.size(); ++e) {
+    if (weights[e] > limit || weights[e] < -limit) {
+      return UnsupportedError("the DDL weight of edge " + std::to_string(e) + " is " +
+                              Number(std::ldexp(static_cast<double>(weights[e]), -weight_bits)) +
+                              ", beyond the format's limit of 256 in magnitude");
+    }
+  }
+  return Status::Ok();
+}
 
 void AppendChunk(ByteWriter& out, format::ChunkType type, const std::vector<uint8_t>& payload) {
   const auto type_value = static_cast<uint8_t>(type);

@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "bitstream/format.h"
@@ -15,13 +17,38 @@
 
 namespace dmc::syntax {
 
+// The bounds the decoder enforces on what an encoder writes (spec §5.3, §8), checked before the
+// values are written: a stream breaking one would be rejected by every decoder, so the encoder
+// refuses it with kUnsupported instead, naming the value (`what`) and `remedy`.
+//
+// Largest quantisation step (spec §8.1, the same bound for the reference frame's step of §8.4).
+inline constexpr double kMaxStep = 18446744073709551616.0;  // 2^64
+// Largest |q| of a mean trajectory value (§8.2), of a reference frame coordinate (§8.4) and of
+// any value coded with S() (§5.3: m = |q| - 1 < 2^62).
+inline constexpr int64_t kMaxMeanMagnitude = int64_t{1} << 52;
+inline constexpr int64_t kMaxReferenceMagnitude = int64_t{1} << 40;
+inline constexpr int64_t kMaxSignedMagnitude = int64_t{1} << 62;
+
+// kUnsupported unless 0 < step <= 2^64.
+Status CheckStep(double step, std::string_view what, std::string_view remedy);
+// kUnsupported unless every value / step rounds to an integer within [-limit, limit].
+Status CheckQuantisedRange(const Eigen::Ref<const Eigen::MatrixXd>& values, double step,
+                           int64_t limit, std::string_view what, std::string_view remedy);
+// The sequence header's fields against §6.1 (the counts are checked by CheckFormatLimits).
+Status CheckSequenceHeader(const format::SequenceHeader& header);
+// The segment header's fields against §8.1 for a mesh of `vertex_count` vertices.
+Status CheckSegmentHeader(const format::SegmentHeader& header, int vertex_count);
+// The coded DDL weights (WriteDdlWeights' `decoded`) against §9.4's |W| <= 256 · 2^weight_bits.
+Status CheckDdlWeights(const std::vector<int64_t>& weights, int weight_bits);
+
 // Appends a framed chunk: u8 type, varint size, payload, u32 XXH32(payload, seed = type).
 void AppendChunk(ByteWriter& out, format::ChunkType type, const std::vector<uint8_t>& payload);
 
 std::vector<uint8_t> WriteSequenceHeader(const format::SequenceHeader& header);
 std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& header);
 
-// Quantises the mean trajectory with header.mean_step; returns the dequantised trajectory.
+// Quantises the mean trajectory with header.mean_step; returns the dequantised trajectory. The
+// values must pass CheckQuantisedRange(mean, mean_step, kMaxMeanMagnitude).
 std::vector<uint8_t> WriteMean(const Eigen::VectorXd& mean, const format::SegmentHeader& header,
                                Eigen::VectorXd* decoded);
 
@@ -43,12 +70,13 @@ std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
 
 // Quantises a reference frame (V×3) to the grid of `step` and codes it with one-ring mean
 // prediction in BreadthFirstOrder; returns the payload (f64 step + range-coded residuals) and the
-// decoded frame.
+// decoded frame. The frame must pass CheckQuantisedRange(frame, step, kMaxReferenceMagnitude).
 std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const MeshTopology& topology,
                                          double step, FramePositionsD* decoded);
 
 // Codes ascending anchor indices and their coefficients quantised with header.anchor_step;
-// returns the dequantised anchor coefficients.
+// returns the dequantised anchor coefficients. The anchors' coefficients must pass
+// CheckQuantisedRange(·, anchor_step, kMaxSignedMagnitude).
 std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
                                   const Eigen::MatrixXd& coefficients,
                                   const format::SegmentHeader& header,
