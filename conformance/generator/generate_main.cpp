@@ -287,7 +287,7 @@ Status KeepOlderVersion(const fs::path& directory, const std::string& name) {
 Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
   DMC_ASSIGN_OR_RETURN(const MeshSequence sequence, vector.source.make());
   DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream, Encode(sequence, vector.options));
-  DMC_ASSIGN_OR_RETURN(const MeshSequence decoded, Decode(stream));
+  DMC_ASSIGN_OR_RETURN(const MeshSequence decoded, Decode(stream, kNoCallerLimit));
   DMC_ASSIGN_OR_RETURN(const StreamInfo info, ReadStreamInfo(stream));
   DMC_ASSIGN_OR_RETURN(const SyntaxDigests digests, ComputeSyntaxDigests(stream));
   if (digests.connectivity_method != vector.expected_connectivity_method) {
@@ -474,7 +474,7 @@ void BaseAnchors(const Base& base, std::vector<int64_t>* indices,
 }
 
 std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, const Base& walker,
-                                          const Base& cotan) {
+                                          const Base& cotan, const Base& indexed) {
   std::vector<InvalidVector> out;
   const ErrorCode kCorrupt = ErrorCode::kCorruptStream;
   const ErrorCode kTruncated = ErrorCode::kTruncatedStream;
@@ -796,13 +796,15 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   }
 
   // --- Range-coded payloads (the container is intact: ReadStreamInfo succeeds).
+  // info_error: a payload too short to start decoding fails the structure parse too (§8.7).
   auto payload_vector = [&](std::string name, std::string description, const Base& base,
-                            size_t chunk, std::vector<uint8_t> payload, ErrorCode error) {
+                            size_t chunk, std::vector<uint8_t> payload, ErrorCode error,
+                            ErrorCode info_error = ErrorCode::kOk) {
     add(std::move(name), std::move(description), base,
-        Edited(base, [&](Framed& f) { f.chunks[chunk].payload = payload; }), error, kOk);
+        Edited(base, [&](Framed& f) { f.chunks[chunk].payload = payload; }), error, info_error);
   };
   payload_vector("mean_payload_short", "mean payload of 2 bytes (a range-coded payload has >= 5)",
-                 ddl, kMeanChunk, {0, 0}, kTruncated);
+                 ddl, kMeanChunk, {0, 0}, kTruncated, kTruncated);
   {
     std::vector<uint8_t> payload = ddl.parsed.framed.chunks[kResidualsChunk].payload;
     payload[0] = 0x80;
@@ -913,7 +915,7 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
     payload_vector("reference_step_zero", "reference frame step 0", cotan, kOperatorChunk,
                    with_step(0.0), kCorrupt);
     payload_vector("reference_payload_short", "operator payload of 5 bytes: no room for the step",
-                   cotan, kOperatorChunk, {0, 0, 0, 0, 0}, kTruncated);
+                   cotan, kOperatorChunk, {0, 0, 0, 0, 0}, kTruncated, kTruncated);
     payload_vector("reference_frame_truncated", "reference frame cut to the step and 6 coded bytes",
                    cotan, kOperatorChunk, {reference.begin(), reference.begin() + 14}, kTruncated);
     RangeEncoder encoder;
@@ -928,11 +930,67 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
                    "first reference coordinate 2^40 + 1 steps from its prediction", cotan,
                    kOperatorChunk, payload, kCorrupt);
   }
+
+  // --- Declared sizes the payloads cannot hold (§8.7): a few hundred bytes declaring 2^26 vertices
+  // (indexed connectivity: all but the grid's vertices are isolated, which is legal). Each is
+  // refused from the headers and the payload sizes alone, before anything grows with V.
+  auto bomb = [&](std::string name, std::string description, uint64_t frames,
+                  const std::function<void(format::SegmentHeader&)>& edit_header,
+                  const std::function<void(Framed&)>& edit_payloads) {
+    const format::SequenceHeader& g = indexed.parsed.header;
+    format::SegmentHeader header = indexed.parsed.segments[0].header;
+    header.frame_count = static_cast<uint32_t>(frames);
+    edit_header(header);
+    add(std::move(name), std::move(description), indexed,
+        Edited(indexed,
+               [&](Framed& f) {
+                 f.chunks[kSequenceHeaderChunk].payload = RawSequenceHeader(
+                     uint64_t{1} << 26, g.triangle_count, frames, 1, g.frame_rate, g.flags, g.name);
+                 f.chunks[kSegmentHeaderChunk].payload = syntax::WriteSegmentHeader(header);
+                 edit_payloads(f);
+               }),
+        kCorrupt, kCorrupt);
+  };
+  bomb(
+      "residuals_cannot_hold_declared_vertices",
+      "2^26 vertices, 21 frames, rank 63, DDL: the residual payload cannot code 2^26 x 63 values",
+      21, [](format::SegmentHeader& g) { g.rank = 63; }, [](Framed&) {});
+  bomb(
+      "residuals_cannot_hold_declared_vertices_tutte",
+      "2^26 vertices, rank 3, Tutte: the residual payload cannot code 2^26 x 3 values", 3,
+      [](format::SegmentHeader& g) {
+        g.rank = 3;
+        g.operator_id = static_cast<uint8_t>(OperatorId::kTutte);
+      },
+      [](Framed& f) { f.chunks[kOperatorChunk].payload.clear(); });
+  bomb(
+      "reference_frame_cannot_hold_declared_vertices",
+      "2^26 vertices, cotan: the operator payload cannot code a reference frame of 3 x 2^26 values",
+      3,
+      [](format::SegmentHeader& g) {
+        g.rank = 3;
+        g.operator_id = static_cast<uint8_t>(OperatorId::kCotan);
+      },
+      [](Framed& f) {
+        ByteWriter w;
+        w.PutF64(1.0);
+        std::vector<uint8_t> payload = w.Take();
+        payload.insert(payload.end(), {0, 0, 0, 0, 0, 0, 0, 0});
+        f.chunks[kOperatorChunk].payload = payload;
+      });
+  bomb(
+      "anchors_cannot_hold_declared_count",
+      "2^25 anchors at rank 63: the anchor payload cannot code 2^25 x 64 values", 21,
+      [](format::SegmentHeader& g) {
+        g.rank = 63;
+        g.anchor_count = uint32_t{1} << 25;
+      },
+      [](Framed&) {});
   return out;
 }
 
 Status GenerateInvalid(const InvalidVector& vector, const fs::path& directory) {
-  const StatusOr<MeshSequence> decoded = Decode(vector.stream);
+  const StatusOr<MeshSequence> decoded = Decode(vector.stream, kNoCallerLimit);
   const ErrorCode got = decoded.ok() ? ErrorCode::kOk : decoded.status().code();
   const StatusOr<StreamInfo> info = ReadStreamInfo(vector.stream);
   const ErrorCode got_info = info.ok() ? ErrorCode::kOk : info.status().code();
@@ -1000,7 +1058,9 @@ int Run(const fs::path& out, bool check) {
   StatusOr<Base> tutte = MakeBase("base_tutte", Synth("cloth", 100, 3), Options("tutte"));
   StatusOr<Base> walker = MakeBase("base_walker", Synth("walker", 100, 3), Options("ddl"));
   StatusOr<Base> cotan = MakeBase("base_cotan", Synth("twist", 100, 3), Options("cotan"));
-  for (const auto* base : {&ddl, &tutte, &walker, &cotan}) {
+  // Indexed connectivity allows vertices no triangle uses: the base of the declared-size bombs.
+  StatusOr<Base> indexed = MakeBase("base_indexed", GridWithIsolatedVertex(4, 3), Options("ddl"));
+  for (const auto* base : {&ddl, &tutte, &walker, &cotan, &indexed}) {
     if (!base->ok()) {
       report(base->status());
       return 1;
@@ -1017,7 +1077,8 @@ int Run(const fs::path& out, bool check) {
     fs::remove(manifest.parent_path() / json.value("stream", std::string()), error);
     fs::remove(manifest, error);
   }
-  const std::vector<InvalidVector> invalid = InvalidVectors(*ddl, *tutte, *walker, *cotan);
+  const std::vector<InvalidVector> invalid =
+      InvalidVectors(*ddl, *tutte, *walker, *cotan, *indexed);
   for (const InvalidVector& vector : invalid) report(GenerateInvalid(vector, invalid_dir));
   std::printf("invalid %zu vectors from bases of %zu, %zu, %zu and %zu bytes\n", invalid.size(),
               ddl->stream.size(), tutte->stream.size(), walker->stream.size(),

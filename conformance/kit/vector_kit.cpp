@@ -83,7 +83,7 @@ VectorResult CheckValid(const Json& manifest, const std::filesystem::path& direc
     }
   }
 
-  StatusOr<MeshSequence> decoded = Decode(*stream);
+  StatusOr<MeshSequence> decoded = Decode(*stream, kNoCallerLimit);
   if (!decoded.ok()) return Fail(result, "decoding failed: " + decoded.status().ToString());
   const int v_count = manifest.at("vertex_count").get<int>();
   const int t_count = manifest.at("triangle_count").get<int>();
@@ -196,7 +196,7 @@ VectorResult CheckInvalid(const Json& manifest, const std::filesystem::path& dir
   StatusOr<std::vector<uint8_t>> stream = ReadBytes(stream_path);
   if (!stream.ok()) return Fail(result, stream.status().ToString());
   const std::string expected = manifest.at("error").get<std::string>();
-  const StatusOr<MeshSequence> decoded = Decode(*stream);
+  const StatusOr<MeshSequence> decoded = Decode(*stream, kNoCallerLimit);
   const std::string got = decoded.ok() ? "ok" : CodeName(decoded.status().code());
   if (got != expected) {
     return Fail(result,

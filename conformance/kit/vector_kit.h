@@ -16,11 +16,17 @@
 
 #include "bitstream/format.h"
 #include "decoder/segment_reconstruction.h"
+#include "dmc/decoder.h"
 #include "dmc/sequence.h"
 #include "dmc/status.h"
 #include "dmc/topology.h"
 
 namespace dmc::conformance {
+
+// The vectors' codes are the stream's own (spec §11.1): they are checked with no caller limit on
+// the output, which would report resource-limit first (§4.4) for the streams declaring 2^26
+// vertices.
+inline constexpr DecoderOptions kNoCallerLimit{.max_output_bytes = 0};
 
 // Tolerance a conforming decoder must meet on every decoded coordinate x against the reference
 // value r (spec §12.3): |x - r| <= kToleranceDiagonalFraction * D + kToleranceValueFraction * |r|,

@@ -142,6 +142,17 @@ class BadInputTest(unittest.TestCase):
             self.assert_error(dmc.ErrorCode.IO_ERROR,
                               lambda: dmc.decode(os.path.join(scratch, "missing.dmc")))
 
+    def test_output_above_the_limit_is_a_resource_limit(self):
+        frames, faces = support.small_animation()
+        stream = dmc.encode(frames, faces)
+        output_bytes = 12 * (frames.shape[0] * frames.shape[1] + faces.shape[0])
+        self.assert_error(dmc.ErrorCode.RESOURCE_LIMIT,
+                          lambda: dmc.decode(stream, max_output_bytes=output_bytes - 1),
+                          "above the limit")
+        decoded, _ = dmc.decode(stream, max_output_bytes=output_bytes)
+        self.assertEqual(decoded.shape, frames.shape)
+        self.assertEqual(dmc.decode(stream, max_output_bytes=0)[0].shape, frames.shape)
+
     def assert_error_in(self, codes, call):
         with self.assertRaises(dmc.Error) as caught:
             call()

@@ -21,7 +21,14 @@ struct DecodeArgs {
   int segment = -1;
   bool json = false;
   bool progress = false;
+  uint64_t max_memory = DecoderOptions().max_output_bytes;
 };
+
+// The library names the limit; the command line names the flag that raises it.
+Status WithLimitHint(const Status& status) {
+  if (status.code() != ErrorCode::kResourceLimit) return status;
+  return Status(status.code(), status.message() + " (raise it with --max-memory, 0 for none)");
+}
 
 int RunDecode(const DecodeArgs& args) {
   if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input); !distinct.ok()) {
@@ -29,6 +36,9 @@ int RunDecode(const DecodeArgs& args) {
   }
   auto bytes = ReadFileBytes(args.input);
   if (!bytes.ok()) return ReportError("decode", bytes.status(), args.json);
+  DecoderOptions options;
+  options.max_output_bytes = args.max_memory;
+  options.max_matrix_bytes = args.max_memory;
   std::optional<Progress> progress;
   auto show = [&](int done, int total) {
     if (!progress) progress.emplace("decoding", total, args.progress);
@@ -39,9 +49,11 @@ int RunDecode(const DecodeArgs& args) {
     // A PC2 cache is written segment by segment as they decode: the whole sequence is never in
     // memory. Two segments in flight keep both cores busy on multi-segment streams (the output
     // does not depend on it: see DecodeToPc2) for at most two decoded segments in memory.
-    const Status status = DecodeToPc2(*bytes, args.output, show, 2);
+    const Status status = DecodeToPc2(*bytes, args.output, show, 2, options);
     progress.reset();
-    if (!status.ok()) return ReportError("decode", status.WithContext(args.input), args.json);
+    if (!status.ok()) {
+      return ReportError("decode", WithLimitHint(status.WithContext(args.input)), args.json);
+    }
     auto info = ReadStreamInfo(*bytes);
     if (!info.ok()) return ReportError("decode", info.status().WithContext(args.input), args.json);
     if (args.json) {
@@ -59,17 +71,20 @@ int RunDecode(const DecodeArgs& args) {
   StatusOr<MeshSequence> sequence = InternalError("unset");
   if (args.segment >= 0) {
     Decoder decoder;
-    const Status open = decoder.Open(*bytes);
-    if (!open.ok()) return ReportError("decode", open.WithContext(args.input), args.json);
+    const Status open = decoder.Open(*bytes, options);
+    if (!open.ok()) {
+      return ReportError("decode", WithLimitHint(open.WithContext(args.input)), args.json);
+    }
     sequence = decoder.DecodeSegment(args.segment);
   } else {
     show(0, 1);
-    sequence = Decode(*bytes);
+    sequence = Decode(*bytes, options);
     if (sequence.ok()) show(1, 1);
     progress.reset();
   }
   if (!sequence.ok()) {
-    return ReportError("decode", sequence.status().WithContext(args.input), args.json);
+    return ReportError("decode", WithLimitHint(sequence.status().WithContext(args.input)),
+                       args.json);
   }
   WriteOptions write_options;
   write_options.frame_format = args.frame_format;
@@ -109,6 +124,12 @@ Command AddDecodeCommand(CLI::App& parent) {
                   "auto, morph or frames: how a .glb output holds the frames (auto: smaller file)")
       ->capture_default_str();
   app->add_option("--segment", args->segment, "Decode only this segment (0-based)");
+  app->add_option("--max-memory", args->max_memory,
+                  "Refuse a stream whose decoded output (12 bytes per vertex and frame, 12 per "
+                  "triangle), or a segment's normal matrix or factor, would exceed SIZE, before "
+                  "building it; 0: no limit but the format's 16 GiB of output")
+      ->transform(CLI::AsSizeValue(false))
+      ->default_str("4GiB");
   app->add_flag("--json", args->json, "Machine-readable output");
   app->add_flag("--progress", args->progress,
                 "Show progress on stderr even when it is not a terminal");

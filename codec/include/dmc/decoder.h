@@ -1,9 +1,12 @@
 // Decoding .dmc streams. Links no encoder code.
 //
-// Contract: every function is safe on untrusted input. Sizes and indices are checked before use,
-// allocations are bounded by what the stream's own sizes justify, and a damaged stream yields
-// kCorruptStream (checksum mismatch, impossible value), kTruncatedStream (ends early) or
-// kUnsupported (a newer version or an unknown method), naming the chunk and field at fault.
+// Contract: every function is safe on untrusted input and never throws. Sizes and indices are
+// checked before use, and a damaged stream yields kCorruptStream (checksum mismatch, impossible
+// value), kTruncatedStream (ends early) or kUnsupported (a newer version or an unknown method),
+// naming the chunk and field at fault. Work and memory are O(stream bytes + declared output):
+// before anything grows with a declared size, every payload is checked to be long enough for the
+// values that size makes it code (spec §5.5), and the declared output against the caller's limit
+// (DecoderOptions, kResourceLimit). Memory that runs out anyway is kResourceLimit too.
 #pragma once
 
 #include <cstdint>
@@ -50,18 +53,41 @@ struct StreamInfo {
   std::vector<SegmentInfo> segments;
 };
 
-// Parses the container and every chunk header (verifying checksums) without reconstructing.
+// Limits a caller puts on decoding, in the spirit of libpng's user limits: a stream within the
+// format's limits (spec §6.2) may still describe more than a caller wants to hold.
+struct DecoderOptions {
+  // Largest declared output a call accepts: 12·V·F bytes of float32 positions plus 12·T of
+  // triangles for the whole stream (what Decode returns and DecodeToPc2 writes; Decoder::Open
+  // checks the whole stream too). A stream above it is refused with kResourceLimit before
+  // anything is allocated for it. 0 means no limit beyond the format's 16 GiB.
+  uint64_t max_output_bytes = uint64_t{4} << 30;
+  // Largest normal matrix LᵀL + anchors and Cholesky factor of one segment (SolverOptions::
+  // max_matrix_bytes): their size follows the connectivity's structure, not its size alone (one
+  // vertex of degree d puts d² entries in LᵀL), so a short connectivity can demand far more than
+  // the output. One above it is refused with kResourceLimit before it is built. 0: no bound.
+  uint64_t max_matrix_bytes = uint64_t{4} << 30;
+};
+
+// 12·V·F + 12·T: the bytes of float32 positions and int32 triangles a stream declares.
+uint64_t DeclaredOutputBytes(const StreamInfo& info);
+
+// Parses the container, the headers and the connectivity (verifying checksums and that every
+// payload can hold what its headers declare) without reconstructing. Applies no output limit and
+// does no work that grows with the vertex count beyond the connectivity's own.
 StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream);
 
 // Decodes a whole stream.
-StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream);
-StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path);
+StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOptions& options = {});
+StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,
+                                  const DecoderOptions& options = {});
 
 // Segment-by-segment decoding for bounded memory and seeking: Open parses the container; each
 // DecodeSegment(i) returns the frames of segment i alone (with the shared triangles).
 class Decoder {
  public:
-  Status Open(std::span<const uint8_t> stream);
+  // Parses the stream (as ReadStreamInfo), checks its declared output against `options` and
+  // builds the topology the segments share.
+  Status Open(std::span<const uint8_t> stream, const DecoderOptions& options = {});
   const StreamInfo& info() const { return info_; }
   int segment_count() const { return static_cast<int>(info_.segments.size()); }
   const Triangles& triangles() const { return triangles_; }
@@ -87,6 +113,11 @@ class Decoder {
   MeshTopology topology_;
   std::vector<int32_t> vertex_order_;  // residual coding order, shared by all segments
   std::vector<std::vector<ChunkRef>> segment_chunks_;
+  uint64_t max_matrix_bytes_ = 0;  // DecoderOptions::max_matrix_bytes
+
+  Status OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* options);
+  Status DecodeSegmentIntoImpl(int index, const FrameDestination& destination) const;
+  friend StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream);
 };
 
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path);
@@ -105,9 +136,10 @@ using DecodeProgressCallback = std::function<void(int frames_done, int frames_to
 // Both files are written under temporary names and renamed into place at the end, the mesh
 // first; on any failure (a damaged stream, a full disk) neither is left behind and existing files
 // are untouched. Errors: those of Decode, kIoError for the files, kInvalidArgument for
-// segments_in_flight < 1.
+// segments_in_flight < 1, kResourceLimit for a stream above options' limit.
 // Defined in dmc_decoder_files (dmc_decoder plus dmc_io), not in dmc_decoder.
 Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
-                   const DecodeProgressCallback& progress = {}, int segments_in_flight = 1);
+                   const DecodeProgressCallback& progress = {}, int segments_in_flight = 1,
+                   const DecoderOptions& options = {});
 
 }  // namespace dmc

@@ -49,6 +49,12 @@ struct SolverOptions {
   // leading PCA columns as much as in any, and checking all r columns cost a fifth of the solve.
   double max_relative_residual = 1e-6;
   int residual_check_spacing = 1;
+  // Largest normal matrix and factor accepted, in bytes (0: no bound): a factorisation whose
+  // factor CHOLMOD's analysis predicts above it, or an AnchoredLaplacianSolver whose LᵀL could
+  // hold more (12 bytes per entry, Σ over L's columns of their entry count squared), is refused
+  // with kResourceLimit before the memory is taken. Their size follows the connectivity's
+  // structure, not its size alone: one vertex of degree d puts d² entries in LᵀL.
+  uint64_t max_matrix_bytes = 0;
 };
 
 // Factorisation of a symmetric positive definite sparse matrix, reused for many right-hand

@@ -31,6 +31,15 @@ inline constexpr uint32_t kMaxNameLength = 256;
 // an encoder must never write one.
 inline constexpr int64_t kMaxResidualMagnitude = int64_t{1} << 40;
 
+// Most binary decisions a range-coded payload of P bytes can hold without overrunning (spec §5.5):
+// every decision narrows the range by at least -log2(1 - 3825/2^24) > 1/3041 bit, so decoding N
+// of them reads more than 5 + (N/3041 - 8)/8 bytes. A payload that cannot hold the decisions its
+// declared sizes need is corrupt, and is refused before anything is sized by them.
+inline constexpr uint64_t kMaxDecisionsPerPayloadByte = 24328;
+constexpr uint64_t MaxDecisions(uint64_t payload_bytes) {
+  return kMaxDecisionsPerPayloadByte * payload_bytes;
+}
+
 struct SequenceHeader {
   uint32_t vertex_count = 0;
   uint32_t triangle_count = 0;

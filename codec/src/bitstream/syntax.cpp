@@ -47,8 +47,12 @@ std::vector<WeightVisit> BuildWeightSchedule(const MeshTopology& topology) {
   std::vector<uint8_t> edge_known(topology.edge_count(), 0);
   std::vector<uint8_t> visited(v_count, 0);
   // Ordered by (-known, vertex): the first element is the next vertex to visit.
+  // Isolated vertices have no edge to code and change no other vertex's count: leaving them out
+  // keeps the schedule and makes its cost independent of them.
   std::set<std::pair<int32_t, int32_t>> queue;
-  for (int v = 0; v < v_count; ++v) queue.insert({0, v});
+  for (int v = 0; v < v_count; ++v) {
+    if (topology.ring_offsets[v + 1] > topology.ring_offsets[v]) queue.insert({0, v});
+  }
   std::vector<WeightVisit> schedule;
   while (!queue.empty()) {
     const int v = queue.begin()->second;

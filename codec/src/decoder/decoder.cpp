@@ -12,6 +12,7 @@
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
+#include "core/allocation_guard.h"
 #include "decoder/connectivity_decoder.h"
 #include "decoder/segment_reconstruction.h"
 #include "decoder/syntax_reader.h"
@@ -115,9 +116,24 @@ StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path) 
   return bytes;
 }
 
-Status Decoder::Open(std::span<const uint8_t> stream) {
+uint64_t DeclaredOutputBytes(const StreamInfo& info) {
+  return 12 * (static_cast<uint64_t>(info.vertex_count) * static_cast<uint64_t>(info.frame_count) +
+               static_cast<uint64_t>(info.triangle_count));
+}
+
+Status Decoder::Open(std::span<const uint8_t> stream, const DecoderOptions& options) {
+  return core_internal::GuardAllocation("opening the stream",
+                                        [&] { return OpenImpl(stream, &options); });
+}
+
+// Without `options` (ReadStreamInfo) no output limit applies and the shared topology is not built.
+Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* options) {
   stream_ = stream;
   info_ = StreamInfo();
+  max_matrix_bytes_ = options != nullptr ? options->max_matrix_bytes : 0;
+  triangles_ = Triangles();
+  topology_ = MeshTopology();
+  vertex_order_.clear();
   segment_chunks_.clear();
   DMC_ASSIGN_OR_RETURN(std::vector<RawChunk> chunks,
                        SplitChunks(stream, &info_.version_major, &info_.version_minor));
@@ -141,23 +157,31 @@ Status Decoder::Open(std::span<const uint8_t> stream) {
                               std::to_string(header.segment_count) + " segment(s) need " +
                               std::to_string(expected_chunks));
   }
-  // Output size bound: a decoder refuses to produce more than 16 GiB of positions.
-  if (uint64_t{header.vertex_count} * header.frame_count * 12 > (uint64_t{1} << 34)) {
-    return UnsupportedError("decoded sequence would exceed 16 GiB");
-  }
-  DMC_ASSIGN_OR_RETURN(triangles_, DecodeConnectivity(payload(chunks[1]), header.vertex_count,
-                                                      header.triangle_count));
   info_.vertex_count = static_cast<int>(header.vertex_count);
   info_.triangle_count = static_cast<int>(header.triangle_count);
   info_.frame_count = static_cast<int>(header.frame_count);
   info_.frame_rate = header.frame_rate;
   info_.reordered = (header.flags & format::kFlagReordered) != 0;
   info_.name = header.name;
-  topology_ = BuildTopology(triangles_, static_cast<int>(header.vertex_count));
-  vertex_order_ = format::BreadthFirstOrder(topology_);
+  // Output size bound of the format: no decoder produces more than 16 GiB of positions.
+  if (uint64_t{header.vertex_count} * header.frame_count * 12 > (uint64_t{1} << 34)) {
+    return UnsupportedError("decoded sequence would exceed 16 GiB");
+  }
+  // The caller's bound, before anything is sized by the declared counts.
+  const uint64_t declared_output = DeclaredOutputBytes(info_);
+  if (options != nullptr && options->max_output_bytes != 0 &&
+      declared_output > options->max_output_bytes) {
+    return ResourceLimitError(
+        "the stream declares " + std::to_string(declared_output) + " bytes of output (" +
+        std::to_string(header.vertex_count) + " vertices x " + std::to_string(header.frame_count) +
+        " frames, " + std::to_string(header.triangle_count) + " triangles), above the limit of " +
+        std::to_string(options->max_output_bytes) + " bytes");
+  }
   info_.header_bytes = 7 + chunks[0].framed_size + chunks.back().framed_size;
   info_.connectivity_bytes = chunks[1].framed_size;
 
+  // Segment headers first: they and the payload sizes alone show whether the payloads can hold
+  // what the headers declare, before the connectivity (whose cost grows with V and T) is decoded.
   uint32_t next_frame = 0;
   for (uint32_t s = 0; s < header.segment_count; ++s) {
     const size_t base = 2 + kChunksPerSegment * size_t{s};
@@ -170,6 +194,11 @@ Status Decoder::Open(std::span<const uint8_t> stream) {
         format::SegmentHeader seg,
         syntax::ReadSegmentHeader(payload(chunks[base]), next_frame,
                                   header.frame_count - next_frame, header.vertex_count));
+    DMC_RETURN_IF_ERROR(syntax::CheckPayloadCapacity(
+                            seg, header.vertex_count,
+                            {chunks[base + 1].size, chunks[base + 2].size, chunks[base + 3].size,
+                             chunks[base + 4].size, chunks[base + 5].size})
+                            .WithContext("segment " + std::to_string(s)));
     SegmentInfo segment;
     segment.first_frame = static_cast<int>(seg.first_frame);
     segment.frame_count = static_cast<int>(seg.frame_count);
@@ -195,10 +224,21 @@ Status Decoder::Open(std::span<const uint8_t> stream) {
     return CorruptStreamError("segments cover " + std::to_string(next_frame) + " of " +
                               std::to_string(header.frame_count) + " frames");
   }
+  DMC_ASSIGN_OR_RETURN(triangles_, DecodeConnectivity(payload(chunks[1]), header.vertex_count,
+                                                      header.triangle_count));
+  if (options != nullptr) {
+    topology_ = BuildTopology(triangles_, static_cast<int>(header.vertex_count));
+    vertex_order_ = format::BreadthFirstOrder(topology_);
+  }
   return Status::Ok();
 }
 
 Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination) const {
+  return core_internal::GuardAllocation("decoding segment " + std::to_string(index),
+                                        [&] { return DecodeSegmentIntoImpl(index, destination); });
+}
+
+Status Decoder::DecodeSegmentIntoImpl(int index, const FrameDestination& destination) const {
   if (index < 0 || index >= segment_count()) {
     return InvalidArgumentError("segment " + std::to_string(index) + " does not exist (" +
                                 std::to_string(segment_count()) + " segments)");
@@ -233,8 +273,9 @@ Status Decoder::DecodeSegmentInto(int index, const FrameDestination& destination
       [&] {
         if (syntax.header.rank == 0) return;
         StatusOr<LaplaceOperator> laplace = RebuildSegmentOperator(topology, syntax);
-        solver.emplace(laplace.ok() ? FactorSegmentOperator(topology, *laplace, syntax)
-                                    : StatusOr<AnchoredLaplacianSolver>(laplace.status()));
+        solver.emplace(laplace.ok()
+                           ? FactorSegmentOperator(topology, *laplace, syntax, max_matrix_bytes_)
+                           : StatusOr<AnchoredLaplacianSolver>(laplace.status()));
       });
   DMC_RETURN_IF_ERROR(residuals);
   // The deltas become the coefficients in place: one V×r matrix instead of three.
@@ -261,14 +302,19 @@ StatusOr<MeshSequence> Decoder::DecodeSegment(int index) const {
 }
 
 StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream) {
-  Decoder decoder;
-  DMC_RETURN_IF_ERROR(decoder.Open(stream));
-  return decoder.info();
+  return core_internal::GuardAllocation("reading the stream's structure",
+                                        [&]() -> StatusOr<StreamInfo> {
+                                          Decoder decoder;
+                                          DMC_RETURN_IF_ERROR(decoder.OpenImpl(stream, nullptr));
+                                          return decoder.info();
+                                        });
 }
 
-StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream) {
+namespace {
+
+StatusOr<MeshSequence> DecodeWhole(std::span<const uint8_t> stream, const DecoderOptions& options) {
   Decoder decoder;
-  DMC_RETURN_IF_ERROR(decoder.Open(stream));
+  DMC_RETURN_IF_ERROR(decoder.Open(stream, options));
   const StreamInfo& info = decoder.info();
   // The output (12·V·F bytes) is allocated only once a segment has decoded and solved, so a tiny
   // stream declaring a huge mesh fails before it costs that memory.
@@ -291,10 +337,19 @@ StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream) {
   return std::move(*sequence);
 }
 
-StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path) {
-  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
-  DMC_ASSIGN_OR_RETURN(MeshSequence sequence, Decode(bytes));
-  return sequence;
+}  // namespace
+
+StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOptions& options) {
+  return core_internal::GuardAllocation("decoding the stream",
+                                        [&] { return DecodeWhole(stream, options); });
+}
+
+StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,
+                                  const DecoderOptions& options) {
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
+                       core_internal::GuardAllocation("reading " + path.string(),
+                                                      [&] { return ReadFileBytes(path); }));
+  return Decode(bytes, options);
 }
 
 }  // namespace dmc

@@ -48,8 +48,10 @@ SolverOrdering NormalMatrixOrdering(int vertex_count) {
 
 StatusOr<AnchoredLaplacianSolver> FactorSegmentOperator(const MeshTopology& topology,
                                                         const LaplaceOperator& laplace,
-                                                        const SegmentSyntax& syntax) {
+                                                        const SegmentSyntax& syntax,
+                                                        uint64_t max_matrix_bytes) {
   SolverOptions options;
+  options.max_matrix_bytes = max_matrix_bytes;
   options.ordering = NormalMatrixOrdering(topology.vertex_count);
   options.residual_check_spacing = kNormalMatrixResidualCheckSpacing;
   return AnchoredLaplacianSolver::Create(topology, laplace.matrix, syntax.anchors,

@@ -43,10 +43,11 @@ inline constexpr int kNormalMatrixResidualCheckSpacing = 16;
 
 // Factors the segment's normal matrix LᵀL + anchors (ordered by NormalMatrixOrdering): needs the
 // operator, the anchors and the header, not the deltas, so a decoder can factor while the
-// residuals are still being decoded.
+// residuals are still being decoded. `max_matrix_bytes`: SolverOptions' (0: no bound).
 StatusOr<AnchoredLaplacianSolver> FactorSegmentOperator(const MeshTopology& topology,
                                                         const LaplaceOperator& laplace,
-                                                        const SegmentSyntax& syntax);
+                                                        const SegmentSyntax& syntax,
+                                                        uint64_t max_matrix_bytes = 0);
 
 // positions(v, 3f + axis) = mean(3f + axis) + Σ_k C(v, k) basis(3f + axis, k), written as float
 // frames into `frames` (frame_count × V × 3, frame after frame). kCorruptStream when a position is

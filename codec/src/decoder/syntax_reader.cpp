@@ -64,7 +64,50 @@ Status ReadReferenceFrame(std::span<const uint8_t> payload, const MeshTopology& 
   return decoder.CheckNotOverrun("reference frame");
 }
 
+// The range decoder's 5 bytes of state (§5.1): a payload that must be decoded and is shorter is
+// truncated-stream, whatever it declares.
+constexpr uint64_t kRangeCoderStartBytes = 5;
+
+// truncated-stream when `payload_bytes` (of which `prefix_bytes` come before the range-coded part)
+// cannot start decoding; corrupt-stream when its range-coded part cannot hold `decisions`.
+Status CheckHolds(uint64_t payload_bytes, uint64_t prefix_bytes, uint64_t decisions,
+                  const char* payload, const std::string& declared) {
+  if (payload_bytes < prefix_bytes + kRangeCoderStartBytes) {
+    return TruncatedStreamError(
+        std::string(payload) + " payload has " + std::to_string(payload_bytes) +
+        " bytes, at least " + std::to_string(prefix_bytes + kRangeCoderStartBytes) + " are needed");
+  }
+  if (decisions <= format::MaxDecisions(payload_bytes - prefix_bytes)) return Status::Ok();
+  return CorruptStreamError(std::string(payload) + " payload of " + std::to_string(payload_bytes) +
+                            " bytes cannot hold the " + std::to_string(decisions) +
+                            " coded values that " + declared + " declare (at most " +
+                            std::to_string(format::kMaxDecisionsPerPayloadByte) + " per byte)");
+}
+
 }  // namespace
+
+Status CheckPayloadCapacity(const format::SegmentHeader& header, uint32_t vertex_count,
+                            const SegmentPayloadSizes& sizes) {
+  const uint64_t v = vertex_count, f = header.frame_count, r = header.rank, a = header.anchor_count;
+  const std::string frames = "F' = " + std::to_string(f);
+  DMC_RETURN_IF_ERROR(CheckHolds(sizes.mean, 0, 3 * f, "mean", frames));
+  if (r > 0) {
+    DMC_RETURN_IF_ERROR(CheckHolds(sizes.basis, 0, r * (1 + 3 * f), "basis",
+                                   "rank " + std::to_string(r) + " and " + frames));
+  }
+  if (format::IsGeometricOperator(header.operator_id)) {
+    // The f64 step, then the range-coded frame.
+    DMC_RETURN_IF_ERROR(CheckHolds(sizes.operator_info, 8, 3 * v, "reference frame",
+                                   "V = " + std::to_string(v) + " vertices"));
+  }
+  DMC_RETURN_IF_ERROR(CheckHolds(sizes.anchors, 0, a * (1 + r), "anchor",
+                                 std::to_string(a) + " anchors at rank " + std::to_string(r)));
+  if (r > 0) {
+    DMC_RETURN_IF_ERROR(CheckHolds(sizes.residuals, 0, v * r, "residual",
+                                   "V = " + std::to_string(v) + " and rank " + std::to_string(r)));
+  }
+  return Status::Ok();
+}
 
 StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> payload) {
   ByteReader reader(payload);
@@ -211,6 +254,17 @@ Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topolo
       return CorruptStreamError("operator chunk must be empty for this operator");
     }
     return Status::Ok();
+  }
+  // Each visit codes all its unknown edges but the last, and every edge is unknown at exactly one
+  // visit, so at least E - (non-isolated vertices) weights are coded: checked before the schedule
+  // (whose cost grows with the mesh) is built.
+  const uint64_t edges = topology.edges.size();
+  const uint64_t visited_vertices =
+      static_cast<uint64_t>(topology.vertex_count - topology.isolated_vertex_count);
+  if (edges > visited_vertices) {
+    DMC_RETURN_IF_ERROR(CheckHolds(
+        payload.size(), 0, edges - visited_vertices, "DDL weight",
+        std::to_string(edges) + " edges of " + std::to_string(visited_vertices) + " vertices"));
   }
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(payload));

@@ -19,6 +19,16 @@ StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> pay
 StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
                                                   uint32_t expected_first_frame,
                                                   uint32_t frames_left, uint32_t vertex_count);
+// corrupt-stream unless each of the segment's range-coded payloads (given by their byte sizes) can
+// hold the fewest decisions its header makes it code (spec §8.7): 3·F' for the mean, r·(1 + 3·F')
+// for the basis, 3·V for a reference frame, A·(1 + r) for the anchors, V·r for the residuals.
+// Needs only the headers, so it runs before the connectivity is decoded.
+struct SegmentPayloadSizes {
+  uint64_t mean = 0, basis = 0, operator_info = 0, anchors = 0, residuals = 0;
+};
+Status CheckPayloadCapacity(const format::SegmentHeader& header, uint32_t vertex_count,
+                            const SegmentPayloadSizes& sizes);
+
 Status ReadMean(std::span<const uint8_t> payload, SegmentSyntax& syntax);
 Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax);
 Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topology,

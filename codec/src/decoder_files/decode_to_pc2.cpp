@@ -13,10 +13,11 @@
 namespace dmc {
 
 Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
-                   const DecodeProgressCallback& progress, int segments_in_flight) {
+                   const DecodeProgressCallback& progress, int segments_in_flight,
+                   const DecoderOptions& options) {
   if (segments_in_flight < 1) return InvalidArgumentError("segments in flight must be >= 1");
   Decoder decoder;
-  DMC_RETURN_IF_ERROR(decoder.Open(stream));
+  DMC_RETURN_IF_ERROR(decoder.Open(stream, options));
   const StreamInfo& info = decoder.info();
   DMC_ASSIGN_OR_RETURN(
       io_internal::Pc2PairWriter writer,

@@ -170,6 +170,23 @@ StatusOr<AnchoredLaplacianSolver> AnchoredLaplacianSolver::Create(const MeshTopo
                                    ") has no anchor: the normal matrix LᵀL is singular there");
     }
   }
+  if (options.max_matrix_bytes != 0) {
+    // Column j of L with n_j entries contributes at most n_j² entries to LᵀL.
+    uint64_t entries = 0;
+    for (Eigen::Index j = 0; j < laplacian.outerSize(); ++j) {
+      const auto n = static_cast<uint64_t>(
+          laplacian.isCompressed() ? laplacian.outerIndexPtr()[j + 1] - laplacian.outerIndexPtr()[j]
+                                   : laplacian.innerNonZeroPtr()[j]);
+      entries += n * n;
+    }
+    if (12 * entries > options.max_matrix_bytes) {
+      return ResourceLimitError("the " + std::to_string(v_count) + "×" + std::to_string(v_count) +
+                                " normal matrix LᵀL could hold " + std::to_string(entries) +
+                                " entries (" + std::to_string(12 * entries) +
+                                " bytes), above the limit of " +
+                                std::to_string(options.max_matrix_bytes) + " bytes");
+    }
+  }
   SparseMatrixD transpose = laplacian.transpose();
   DMC_ASSIGN_OR_RETURN(
       SparseSpdSolver solver,

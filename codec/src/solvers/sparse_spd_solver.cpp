@@ -199,6 +199,17 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
         return InternalError(what + ": CHOLMOD analysis failed");
       }
     }
+    // The analysis sizes the factor: a supernodal one's numeric storage, else its entry count.
+    const cholmod_factor* symbolic = impl->cholmod->factor();
+    const double factor_bytes =
+        sizeof(double) *
+        (symbolic->is_super ? static_cast<double>(symbolic->xsize) : impl->cholmod->cholmod().lnz);
+    if (options.max_matrix_bytes != 0 &&
+        factor_bytes > static_cast<double>(options.max_matrix_bytes)) {
+      return ResourceLimitError(
+          what + ": its factor would take " + std::to_string(static_cast<uint64_t>(factor_bytes)) +
+          " bytes, above the limit of " + std::to_string(options.max_matrix_bytes));
+    }
     impl->cholmod->factorize(impl->matrix);
     if (impl->cholmod->info() != Eigen::Success) {
       return NumericalFailureError(what + ": not positive definite (CHOLMOD)");

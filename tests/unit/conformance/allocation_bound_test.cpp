@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "dmc/decoder.h"
@@ -139,11 +140,11 @@ struct DecodeCost {
 
 // Decodes the stream and reports the peak of heap bytes allocated while doing so (the result's
 // own storage included).
-DecodeCost MeasureDecode(std::span<const uint8_t> stream) {
+DecodeCost MeasureDecode(std::span<const uint8_t> stream, const DecoderOptions& options = {}) {
   const int64_t before = live_bytes.load();
   peak_bytes.store(before);
   DecodeCost cost;
-  cost.code = Decode(stream).status().code();
+  cost.code = Decode(stream, options).status().code();
   cost.peak_bytes = peak_bytes.load() - before;
   return cost;
 }
@@ -277,6 +278,33 @@ TEST_F(AllocationBound, StreamRejectedInItsPayloadsDoesNotAllocateItsOutput) {
               static_cast<long long>(output), static_cast<long long>(cost.peak_bytes));
   // The decoder allocates a segment's output only once its payloads have decoded and solved.
   EXPECT_LT(cost.peak_bytes, output / 2);
+}
+
+TEST_F(AllocationBound, StreamsDeclaringHugeMeshesAreRefusedInLittleMemory) {
+  // The generated vectors that declare 2^26 vertices (or 2^25 anchors) in a few hundred bytes
+  // are refused from their headers and payload sizes (spec §8.7), with no caller limit, and by
+  // the default limit (4 GiB) when their output exceeds it: either way within a few megabytes,
+  // nowhere near the gigabytes their declared sizes would take.
+  constexpr int64_t kMaxPeak = int64_t{64} << 20;
+  DecoderOptions none;
+  none.max_output_bytes = 0;
+  for (const char* name :
+       {"residuals_cannot_hold_declared_vertices", "residuals_cannot_hold_declared_vertices_tutte",
+        "reference_frame_cannot_hold_declared_vertices", "anchors_cannot_hold_declared_count"}) {
+    const StatusOr<std::vector<uint8_t>> stream = ReadFileBytes(
+        std::string(DMC_SOURCE_DIR) + "/conformance/vectors/invalid/" + name + ".dmc");
+    ASSERT_TRUE(stream.ok()) << stream.status().ToString();
+    for (const DecoderOptions& options : {none, DecoderOptions()}) {
+      const DecodeCost cost = MeasureDecode(*stream, options);
+      EXPECT_TRUE(cost.code == ErrorCode::kCorruptStream || cost.code == ErrorCode::kResourceLimit)
+          << name << ": " << ErrorCodeName(cost.code);
+      EXPECT_LT(cost.peak_bytes, kMaxPeak) << name;
+      std::printf("%s (limit %llu): %s, peak %lld bytes\n", name,
+                  static_cast<unsigned long long>(options.max_output_bytes),
+                  std::string(ErrorCodeName(cost.code)).c_str(),
+                  static_cast<long long>(cost.peak_bytes));
+    }
+  }
 }
 
 }  // namespace
