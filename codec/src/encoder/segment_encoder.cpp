@@ -21,8 +21,7 @@ namespace {
 
 // The mean trajectory's step is diagonal · 2^-kMeanStepBits (stream_writer.h), or coarser, when the
 // mean lies so far from the origin (beyond 2^33 diagonals) that its values would exceed the
-// format's 2^52 steps: the step is then 2^-51 of the largest value, far below the float32
-// resolution of the input there.
+// format's 2^52 steps: the step is then 2^-51 of the largest value, at most the residual step.
 constexpr int kMeanMagnitudeBits = 51;
 
 // Ranks are compared by bits · STED^kRankStedElasticity, lowest wins. The encode ladders of samba,
@@ -138,9 +137,19 @@ StatusOr<SegmentEncoder::Segment> SegmentEncoder::Prepare(SegmentTrajectories tr
   if (segment.anchors.empty()) segment.anchors.push_back(0);
   segment.header.anchor_count = static_cast<uint32_t>(segment.anchors.size());
 
-  if (pca.mean.size() > 0) {
-    segment.header.mean_step = std::max(
-        segment.header.mean_step, std::ldexp(pca.mean.cwiseAbs().maxCoeff(), -kMeanMagnitudeBits));
+  const double coarsened = std::ldexp(pca.mean.cwiseAbs().maxCoeff(), -kMeanMagnitudeBits);
+  if (coarsened > segment.header.mean_step) {
+    // Coarser than the residual step, the mean's error would outweigh the residuals' (and the
+    // shape's offset be lost): a sequence so flat and so far from the origin is refused.
+    if (coarsened > residual_step_) {
+      return UnsupportedError(
+          "the mean trajectory reaches " + syntax::ShortNumber(pca.mean.cwiseAbs().maxCoeff()) +
+          ", so far from the origin for the bounding-box diagonal " +
+          syntax::ShortNumber(diagonal_) + " that its quantisation step would be " +
+          syntax::ShortNumber(coarsened) + ", coarser than the residual step " +
+          syntax::ShortNumber(residual_step_) + ": translate the input nearer the origin");
+    }
+    segment.header.mean_step = coarsened;
   }
   DMC_RETURN_IF_ERROR(syntax::CheckStep(segment.header.mean_step, "the mean step",
                                         "rescale the input (smaller coordinates)"));

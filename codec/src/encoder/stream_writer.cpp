@@ -1,7 +1,6 @@
 #include "encoder/stream_writer.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "encoder/codec_operators.h"
@@ -13,11 +12,7 @@ namespace {
 
 constexpr int kDefaultSegmentFrames = 256;  // frames per segment unless options.segment_frames
 
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
+std::string Number(double value) { return syntax::ShortNumber(value); }
 
 // The steps every segment derives from the plan, against the format's 2^64 (spec §8.1), before
 // anything is coded: far beyond float32 data at ordinary scales, so the remedy is a smaller input.

@@ -15,18 +15,19 @@ namespace dmc::syntax {
 
 namespace {
 
-// Six significant digits, as %g prints them.
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
+std::string Number(double value) { return ShortNumber(value); }
 
 std::string Remedy(std::string_view remedy) {
   return remedy.empty() ? std::string() : ": " + std::string(remedy);
 }
 
 }  // namespace
+
+std::string ShortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
 
 Status CheckStep(double step, std::string_view what, std::string_view remedy) {
   if (std::isfinite(step) && step > 0.0 && step <= kMaxStep) return Status::Ok();

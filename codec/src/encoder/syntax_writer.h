@@ -29,6 +29,9 @@ inline constexpr int64_t kMaxMeanMagnitude = int64_t{1} << 52;
 inline constexpr int64_t kMaxReferenceMagnitude = int64_t{1} << 40;
 inline constexpr int64_t kMaxSignedMagnitude = int64_t{1} << 62;
 
+// `value` with six significant digits (%g), for the messages.
+std::string ShortNumber(double value);
+
 // kUnsupported unless 0 < step <= 2^64.
 Status CheckStep(double step, std::string_view what, std::string_view remedy);
 // kUnsupported unless every value / step rounds to an integer within [-limit, limit].
