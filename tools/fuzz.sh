@@ -55,7 +55,7 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 vector_seeds="$build/seeds/valid_vectors"
 rm -rf "$vector_seeds"
 mkdir -p "$vector_seeds"
-cp "$root"/conformance/vectors/valid/*.dmc "$vector_seeds/"
+cp "$root"/conformance/vectors/valid/*.dmc "$root"/conformance/vectors/invalid/*.dmc "$vector_seeds/"
 seed_dirs() {
   local target="$1"
   echo "$root/tests/fuzz/corpus/$target"
@@ -76,11 +76,16 @@ for target in "${targets[@]}"; do
   mkdir -p "$(dirname "$log")"
   mapfile -t seeds < <(seed_dirs "$target")
   echo "fuzz: $target for ${seconds} s (log $log)"
-  # -timeout: one input taking longer is a hang. -rss_limit_mb: the targets skip streams that
-  # declare large meshes, so anything near 2 GB is a leak or an unbounded allocation.
-  # -reload=0: new inputs come from this process only.
+  # -timeout: one input taking longer is a hang. -rss_limit_mb (and the largest single
+  # allocation, which defaults to it): the decode targets cap what a stream may declare
+  # (fuzz_support.h: 16 MB of output, 32 MB of normal equations) and inputs are at most 16 KB,
+  # so the decoder's bound (spec §11.4) keeps them far below 512 MB, sanitizer overhead
+  # included; the file parsers and round trips get 1 GB. -reload=0: new inputs come from this
+  # process only.
+  rss_limit_mb=1024
+  case "$target" in decode_fuzz | decode_rechecksum_fuzz | stream_info_fuzz) rss_limit_mb=512 ;; esac
   status=0
-  "$build/tests/fuzz/$target" -max_total_time="$seconds" -timeout=25 -rss_limit_mb=2048 \
+  "$build/tests/fuzz/$target" -max_total_time="$seconds" -timeout=25 -rss_limit_mb="$rss_limit_mb" \
     -max_len=16384 -print_final_stats=1 -reload=0 -artifact_prefix="$artifacts/" \
     "$corpus" "${seeds[@]}" >"$log" 2>&1 || status=$?
   grep -E "^(stat::peak_rss_mb|Done [0-9]+ runs)" "$log" |

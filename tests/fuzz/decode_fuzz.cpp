@@ -9,8 +9,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::span<const uint8_t> stream(data, size);
-  if (!dmc::fuzz::DeclaredSizesAreSmall(stream)) return -1;  // not added to the corpus
-  const dmc::StatusOr<dmc::MeshSequence> decoded = dmc::Decode(stream);
+  const dmc::StatusOr<dmc::MeshSequence> decoded =
+      dmc::Decode(stream, dmc::fuzz::kFuzzDecoderOptions);
   if (!decoded.ok()) return 0;
   const dmc::MeshSequence& sequence = *decoded;
   if (sequence.position_value_count() != static_cast<size_t>(sequence.vertex_count()) * 3 *

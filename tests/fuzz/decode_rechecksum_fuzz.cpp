@@ -14,8 +14,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::vector<uint8_t> stream =
       dmc::fuzz::RepairChecksums(std::span<const uint8_t>(data, size));
-  if (!dmc::fuzz::DeclaredSizesAreSmall(stream)) return -1;
-  const dmc::StatusOr<dmc::MeshSequence> decoded = dmc::Decode(stream);
+  const dmc::StatusOr<dmc::MeshSequence> decoded =
+      dmc::Decode(stream, dmc::fuzz::kFuzzDecoderOptions);
   if (!decoded.ok()) return 0;
   for (Eigen::Index t = 0; t < decoded->triangles().rows(); ++t) {
     for (int k = 0; k < 3; ++k) {

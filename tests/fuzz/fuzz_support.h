@@ -1,11 +1,11 @@
 // Shared helpers of the fuzz targets (and of the allocation-bound test, which damages streams the
 // same way).
 //
-// DeclaredSizesAreSmall() pre-screens a .dmc input the way a service with a memory budget would:
-// the format lets a few hundred bytes declare up to 16 GiB of output (spec §6.2), which a decoder
-// allocates legitimately. Fuzzing such inputs only measures the machine's memory, so the decode
-// targets skip streams whose sequence header declares more than a small budget; everything else
-// (every container, connectivity and segment path) is exercised in full.
+// kFuzzDecoderOptions bound what a decode target lets a stream claim the way a service with a
+// memory budget would: the format lets a few hundred bytes declare up to 16 GiB of output
+// (spec §6.2), which a decoder allocates legitimately. The decoder itself refuses such streams
+// (resource-limit, before anything is sized by them), so every input runs in full, and
+// tools/fuzz.sh's -rss_limit_mb proves that nothing else grows out of proportion.
 //
 // RepairChecksums() rewrites the checksum of every chunk a (possibly damaged) stream frames, so a
 // mutation reaches the payload decoders instead of stopping at the checksum check.
@@ -22,14 +22,15 @@
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "decoder/syntax_reader.h"
+#include "dmc/decoder.h"
 #include "dmc/status.h"
 #include "dmc/wire_ids.h"
 #include "entropy/byte_io.h"
 
 namespace dmc::fuzz {
 
-inline constexpr uint64_t kMaxFuzzVertices = 1 << 16;
-inline constexpr uint64_t kMaxFuzzPositionValues = 1 << 22;  // 16 MB of float32 output
+inline constexpr DecoderOptions kFuzzDecoderOptions{.max_output_bytes = uint64_t{16} << 20,
+                                                    .max_matrix_bytes = uint64_t{32} << 20};
 
 // The sequence header of the stream's first chunk when it frames and parses (its checksum is not
 // verified: this is what the stream claims, not what a decoder accepts); nullopt otherwise.
@@ -48,15 +49,6 @@ inline std::optional<format::SequenceHeader> DeclaredSequenceHeader(
   StatusOr<format::SequenceHeader> header = syntax::ReadSequenceHeader(payload);
   if (!header.ok()) return std::nullopt;
   return *std::move(header);
-}
-
-// True when the stream is not a .dmc stream at all (the decoder rejects it cheaply) or when its
-// sequence header declares a mesh within the fuzzing budget.
-inline bool DeclaredSizesAreSmall(std::span<const uint8_t> stream) {
-  const std::optional<format::SequenceHeader> header = DeclaredSequenceHeader(stream);
-  if (!header) return true;
-  return header->vertex_count <= kMaxFuzzVertices &&
-         uint64_t{header->vertex_count} * header->frame_count * 3 <= kMaxFuzzPositionValues;
 }
 
 // A copy of the stream with every framed chunk's checksum recomputed; bytes that do not frame as
