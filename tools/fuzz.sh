@@ -46,7 +46,9 @@ start=$SECONDS
 cmake --build "$build" --target "${targets[@]}" -j "$jobs"
 echo "fuzz: build took $((SECONDS - start)) s"
 
-export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0}"
+# quarantine_size_mb: ASan holds freed memory this long to catch use after free; its default
+# (256 MB) alone would take half of the decode targets' memory limit below.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:allocator_may_return_null=0:quarantine_size_mb=64}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}"
 
 # Seeds: the checked-in corpus of each target, plus the valid conformance vectors (their .dmc
@@ -76,16 +78,19 @@ for target in "${targets[@]}"; do
   mkdir -p "$(dirname "$log")"
   mapfile -t seeds < <(seed_dirs "$target")
   echo "fuzz: $target for ${seconds} s (log $log)"
-  # -timeout: one input taking longer is a hang. -rss_limit_mb (and the largest single
-  # allocation, which defaults to it): the decode targets cap what a stream may declare
-  # (fuzz_support.h: 16 MB of output, 32 MB of normal equations) and inputs are at most 16 KB,
-  # so the decoder's bound (spec §11.4) keeps them far below 512 MB, sanitizer overhead
-  # included; the file parsers and round trips get 1 GB. -reload=0: new inputs come from this
-  # process only.
-  rss_limit_mb=1024
-  case "$target" in decode_fuzz | decode_rechecksum_fuzz | stream_info_fuzz) rss_limit_mb=512 ;; esac
+  # -timeout: one input taking longer is a hang. Memory: the decode targets cap what a stream
+  # may declare (fuzz_support.h: 16 MB of output, 32 MB of normal equations) and inputs are at
+  # most 16 KB, so the decoder's bound (spec §11.4) keeps every allocation under 64 MB
+  # (-malloc_limit_mb) and the process, sanitizer included, under 512 MB (-rss_limit_mb); the
+  # file parsers and round trips get 1 GB for both. -reload=0: new inputs come from this process
+  # only.
+  rss_limit_mb=1024 malloc_limit_mb=1024
+  case "$target" in
+    decode_fuzz | decode_rechecksum_fuzz | stream_info_fuzz) rss_limit_mb=512 malloc_limit_mb=64 ;;
+  esac
   status=0
   "$build/tests/fuzz/$target" -max_total_time="$seconds" -timeout=25 -rss_limit_mb="$rss_limit_mb" \
+    -malloc_limit_mb="$malloc_limit_mb" \
     -max_len=16384 -print_final_stats=1 -reload=0 -artifact_prefix="$artifacts/" \
     "$corpus" "${seeds[@]}" >"$log" 2>&1 || status=$?
   grep -E "^(stat::peak_rss_mb|Done [0-9]+ runs)" "$log" |
