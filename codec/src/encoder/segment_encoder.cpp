@@ -387,9 +387,10 @@ Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
                          ResidualWriter(topology_, vertex_order_, coefficients)(syntax));
   }
   coding.header = syntax.header;
-  if (rank > 0 && !FactorsByConstruction(syntax.header.operator_id)) {
+  if (rank > 0 && !FactorsByConstruction(syntax.header.operator_id) && !options_.measure) {
     // A geometric operator from degenerate geometry can leave the normal matrix singular: refused
-    // rather than written, since the operator was asked for.
+    // rather than written, since the operator was asked for. (A measured encode decodes every
+    // segment anyway, and refuses alike.)
     SegmentCoding check;
     check.header = coding.header;
     check.residual_payload = coding.residual_payload;

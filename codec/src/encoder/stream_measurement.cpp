@@ -24,15 +24,19 @@ void RestoreInputLabels(const std::vector<int32_t>& relabel, int vertex_count, i
   }
 }
 
-// The decoder's verdict on a stream the encoder wrote: a rejection is the encoder's bug.
+// The decoder's verdict on a stream the encoder wrote. The encoder checks every value against
+// the format, so a malformed stream is its bug; a requested operator whose normal matrix cannot be
+// factored on this geometry is the one rejection left to the decoding (kNumericalFailure).
 Status OwnStreamStatus(const Status& status) {
   switch (status.code()) {
     case ErrorCode::kCorruptStream:
     case ErrorCode::kTruncatedStream:
     case ErrorCode::kUnsupported:
-    case ErrorCode::kNumericalFailure:
       return InternalError("the decoder rejects the encoded stream (a bug in the encoder): " +
                            status.ToString());
+    case ErrorCode::kNumericalFailure:
+      return status.WithContext(
+          "the encoded stream does not decode (use another operator, e.g. the default ddl)");
     default:
       return status.WithContext("decoding the encoded stream");
   }

@@ -24,8 +24,9 @@ StatusOr<StreamingDistortion> CreateSourceMeter(FrameSource& source);
 // adds each segment to `meter`, whose original terms are complete. Memory: one segment of decoded
 // frames and one read block of originals with its speed window. `progress(frames done)` per
 // segment. With a null `meter` the stream is only decoded (for a source whose distortion is
-// undefined), and the report is empty. A stream the decoder rejects is kInternal: the encoder
-// checks what it writes, so that is a bug in it, not a damaged input.
+// undefined), and the report is empty. A stream the decoder rejects as malformed is kInternal (the
+// encoder checks what it writes: a bug in it, not a damaged input); one whose requested operator
+// cannot be factored is kNumericalFailure, naming the remedy.
 StatusOr<DistortionReport> MeasureStream(FrameSource& source, std::span<const uint8_t> stream,
                                          const std::vector<int32_t>& relabel,
                                          const StreamPlan& plan, StreamingDistortion* meter,

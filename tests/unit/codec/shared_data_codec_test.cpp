@@ -114,6 +114,27 @@ TEST(SharedDataCodec, GltfAnimations) {
   if (present == 0) GTEST_SKIP() << "../shared/data is absent";
 }
 
+// Without the fallback's measurement (effort 0) the ddl coding is decode-checked: BrainStem's
+// first 210 frames (its first segment) fit weights whose normal matrix is singular, and the
+// segment is coded with kirchhoff instead of failing.
+TEST(SharedDataCodec, BrainStemWithoutTheFallbackMeasurement) {
+  DMC_SKIP_UNDER_SANITIZERS();
+  DMC_REQUIRE_SHARED_DATA(path, "brainstem/BrainStem.glb");
+  ReadOptions read;
+  read.max_frames = 210;
+  const StatusOr<MeshSequence> sequence = ReadSequence(path, read);
+  ASSERT_TRUE(sequence.ok()) << sequence.status().ToString();
+  EncoderOptions options;
+  options.effort = 0;
+  EncodeReport report;
+  const StatusOr<std::vector<uint8_t>> stream = Encode(*sequence, options, &report);
+  ASSERT_TRUE(stream.ok()) << stream.status().ToString();
+  ASSERT_TRUE(report.measured);
+  EXPECT_EQ(report.segment_operators, std::vector<std::string>{"kirchhoff"});
+  EXPECT_LT(report.distortion.kg, kMaxKg);
+  EXPECT_TRUE(Decode(*stream).ok());
+}
+
 TEST(SharedDataCodec, PoseArchives) {
   DMC_SKIP_UNDER_SANITIZERS();
   int present = 0;
