@@ -7,14 +7,16 @@
 #include <memory>
 #include <vector>
 
+#include "core/allocation_guard.h"
 #include "dmc/decoder.h"
 #include "io/pc2_stream.h"
 
 namespace dmc {
+namespace {
 
-Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
-                   const DecodeProgressCallback& progress, int segments_in_flight,
-                   const DecoderOptions& options) {
+Status DecodeToPc2Unguarded(std::span<const uint8_t> stream, const std::filesystem::path& output,
+                            const DecodeProgressCallback& progress, int segments_in_flight,
+                            const DecoderOptions& options) {
   if (segments_in_flight < 1) return InvalidArgumentError("segments in flight must be >= 1");
   Decoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Open(stream, options));
@@ -76,6 +78,18 @@ Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path&
               }));
   DMC_RETURN_IF_ERROR(failure);
   return writer.Commit();
+}
+
+}  // namespace
+
+Status DecodeToPc2(std::span<const uint8_t> stream, const std::filesystem::path& output,
+                   const DecodeProgressCallback& progress, int segments_in_flight,
+                   const DecoderOptions& options) {
+  // The pipeline's buffers and the writer allocate outside the decoder's own guards; the
+  // writer's temporaries are removed as the exception unwinds.
+  return core_internal::GuardAllocation("decoding to " + output.string(), [&] {
+    return DecodeToPc2Unguarded(stream, output, progress, segments_in_flight, options);
+  });
 }
 
 }  // namespace dmc

@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "core/allocation_guard.h"
 #include "dmc/metrics.h"
 #include "metrics/metrics_internal.h"
 
@@ -94,8 +95,12 @@ StatusOr<DistortionReport> MeasureDistortion(const MeshSequence& original,
   DMC_RETURN_IF_ERROR(ValidateStedOptions(options));
   // Mismatches are reported before the (longer) preparation of the original.
   DMC_RETURN_IF_ERROR(CheckComparable(original, distorted).WithContext("original vs distorted"));
-  DMC_ASSIGN_OR_RETURN(const DistortionMeter meter, DistortionMeter::Create(original, options));
-  return meter.Measure(distorted);
+  return core_internal::GuardAllocation(
+      "measuring the distortion", [&]() -> StatusOr<DistortionReport> {
+        DMC_ASSIGN_OR_RETURN(const DistortionMeter meter,
+                             DistortionMeter::Create(original, options));
+        return meter.Measure(distorted);
+      });
 }
 
 }  // namespace dmc

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/allocation_guard.h"
 #include "dmc/processing.h"
 
 namespace dmc {
@@ -31,8 +32,10 @@ StatusOr<ProcessingResult> PreparedMethod::ApplySequence(const MeshSequence& seq
   return result;
 }
 
-StatusOr<PreparedRun> Prepare(std::string_view method, const MeshSequence& sequence,
-                              const RunOptions& options) {
+namespace {
+
+StatusOr<PreparedRun> PrepareUnguarded(std::string_view method, const MeshSequence& sequence,
+                                       const RunOptions& options) {
   PreparedRun run;
   DMC_ASSIGN_OR_RETURN(run.method, FindMethod(method));
   DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
@@ -71,10 +74,20 @@ StatusOr<PreparedRun> Prepare(std::string_view method, const MeshSequence& seque
   return run;
 }
 
+}  // namespace
+
+StatusOr<PreparedRun> Prepare(std::string_view method, const MeshSequence& sequence,
+                              const RunOptions& options) {
+  return core_internal::GuardAllocation(fmt::format("preparing {}", method), [&] {
+    return PrepareUnguarded(method, sequence, options);
+  });
+}
+
 StatusOr<ProcessingResult> RunMethod(std::string_view method, const MeshSequence& sequence,
                                      const RunOptions& options) {
   DMC_ASSIGN_OR_RETURN(PreparedRun run, Prepare(method, sequence, options));
-  return run.prepared->ApplySequence(sequence);
+  return core_internal::GuardAllocation(fmt::format("running {}", method),
+                                        [&] { return run.prepared->ApplySequence(sequence); });
 }
 
 StatusOr<FrameOutput> RunMethodOnMesh(std::string_view method, const Triangles& triangles,
@@ -86,7 +99,8 @@ StatusOr<FrameOutput> RunMethodOnMesh(std::string_view method, const Triangles& 
     return UnsupportedError(
         fmt::format("method {} processes whole sequences; use RunMethod", run.method->name));
   }
-  return run.prepared->Apply(positions, 0);
+  return core_internal::GuardAllocation(fmt::format("running {}", method),
+                                        [&] { return run.prepared->Apply(positions, 0); });
 }
 
 }  // namespace dmc

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/allocation_guard.h"
 #include "dmc/bspline.h"
 #include "dmc/operator_traits.h"
 #include "dmc/operators.h"
@@ -252,7 +253,10 @@ StatusOr<LaplaceOperator> BuildOperator(std::string_view name, const MeshTopolog
         info->domain == OperatorDomain::kSpacetime ? "a VF x VF matrix over every frame's vertices"
                                                    : "an N x N matrix over B-spline elements"));
   }
-  DMC_ASSIGN_OR_RETURN(LaplaceOperator result, info->factory(topology, source, options));
+  DMC_ASSIGN_OR_RETURN(
+      LaplaceOperator result,
+      core_internal::GuardAllocation(fmt::format("building the {} operator", info->name),
+                                     [&] { return info->factory(topology, source, options); }));
   result.name = std::string(info->name);
   return result;
 }
