@@ -14,6 +14,7 @@
 #include <system_error>
 #include <thread>
 
+#include "core/allocation_guard.h"
 #include "dmc/io.h"
 #include "io/file_ops.h"
 #include "io/gltf_format.h"
@@ -307,8 +308,10 @@ std::string LowercaseExtension(const std::filesystem::path& path) {
   return extension;
 }
 
-StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const ReadOptions& options,
-                                    ReadReport* report) {
+namespace {
+
+StatusOr<MeshSequence> ReadSequenceUnguarded(const std::filesystem::path& input,
+                                             const ReadOptions& options, ReadReport* report) {
   if (options.max_frames < 0) {
     return InvalidArgumentError("max_frames must be 0 (all) or positive, got " +
                                 std::to_string(options.max_frames));
@@ -369,6 +372,14 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const Re
     report->warnings.insert(report->warnings.end(), warnings.begin(), warnings.end());
   }
   return sequence;
+}
+
+}  // namespace
+
+StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input, const ReadOptions& options,
+                                    ReadReport* report) {
+  return core_internal::GuardAllocation(
+      "reading " + input.string(), [&] { return ReadSequenceUnguarded(input, options, report); });
 }
 
 namespace {
@@ -500,8 +511,11 @@ Status WritePc2Pair(const MeshSequence& sequence, const std::filesystem::path& o
 
 }  // namespace
 
-Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output_path,
-                     const WriteOptions& options) {
+namespace {
+
+Status WriteSequenceUnguarded(const MeshSequence& sequence,
+                              const std::filesystem::path& output_path,
+                              const WriteOptions& options) {
   const std::optional<MeshFormat> frame_format =
       io_internal::MeshFormatFromName(options.frame_format);
   if (!frame_format) {
@@ -543,6 +557,15 @@ Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& 
     return Status::Ok();
   }
   return WriteFrameDirectory(sequence, output, *frame_format, options);
+}
+
+}  // namespace
+
+Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output_path,
+                     const WriteOptions& options) {
+  return core_internal::GuardAllocation("writing " + output_path.string(), [&] {
+    return WriteSequenceUnguarded(sequence, output_path, options);
+  });
 }
 
 }  // namespace dmc
