@@ -56,7 +56,12 @@ StatusOr<DistortionReport> MeasureStream(FrameSource& source, std::span<const ui
                                          const StreamPlan& plan, StreamingDistortion* meter,
                                          const std::function<void(int)>& progress) {
   Decoder decoder;
-  DMC_RETURN_IF_ERROR(OwnStreamStatus(decoder.Open(stream)));
+  // No limits: the stream's output is the encoder's own input (decoded one segment at a time),
+  // and its normal matrices those the encoder's closed loop factors.
+  DecoderOptions unlimited;
+  unlimited.max_output_bytes = 0;
+  unlimited.max_matrix_bytes = 0;
+  DMC_RETURN_IF_ERROR(OwnStreamStatus(decoder.Open(stream, unlimited)));
   const int v_count = source.vertex_count();
   const size_t per_frame = static_cast<size_t>(v_count) * 3;
   std::vector<float> decoded, original;
