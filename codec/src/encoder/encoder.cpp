@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/allocation_guard.h"
 #include "dmc/encoder_options.h"
 #include "dmc/io.h"
 #include "encoder/connectivity_encoder.h"
@@ -257,10 +258,9 @@ StatusOr<ConnectivityCode> EncodeSourceConnectivity(FrameSource& source,
   return EncodeConnectivity(source.triangles(), source.vertex_count(), options.allow_reorder);
 }
 
-}  // namespace
-
-StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,
-                                      EncodeReport* report) {
+StatusOr<std::vector<uint8_t>> EncodeUnguarded(const MeshSequence& sequence,
+                                               const EncoderOptions& options,
+                                               EncodeReport* report) {
   const auto start = Clock::now();
   EncodeReport local;
   EncodeReport& out = report ? *report : local;
@@ -279,15 +279,9 @@ StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const Encode
   return sink.Take();
 }
 
-Status EncodeToFile(const MeshSequence& sequence, const std::filesystem::path& output,
-                    const EncoderOptions& options, EncodeReport* report) {
-  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, Encode(sequence, options, report));
-  return WriteFileAtomically(output, bytes);
-}
-
-Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
-                       const EncoderOptions& options, EncodeReport* report,
-                       const StreamingEncodeOptions& streaming) {
+Status EncodeStreamingUnguarded(FrameSource& source, const std::filesystem::path& output,
+                                const EncoderOptions& options, EncodeReport* report,
+                                const StreamingEncodeOptions& streaming) {
   const auto start = Clock::now();
   EncodeReport local;
   EncodeReport& out = report ? *report : local;
@@ -302,6 +296,29 @@ Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
   DMC_RETURN_IF_ERROR(sink.Commit());
   out.seconds = SecondsSince(start);
   return Status::Ok();
+}
+
+}  // namespace
+
+// Memory that runs out in the encoder's passes (Eigen, CHOLMOD, TBB throw) is resource-limit.
+StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,
+                                      EncodeReport* report) {
+  return core_internal::GuardAllocation("encoding",
+                                        [&] { return EncodeUnguarded(sequence, options, report); });
+}
+
+Status EncodeToFile(const MeshSequence& sequence, const std::filesystem::path& output,
+                    const EncoderOptions& options, EncodeReport* report) {
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, Encode(sequence, options, report));
+  return WriteFileAtomically(output, bytes);
+}
+
+Status EncodeStreaming(FrameSource& source, const std::filesystem::path& output,
+                       const EncoderOptions& options, EncodeReport* report,
+                       const StreamingEncodeOptions& streaming) {
+  return core_internal::GuardAllocation("encoding to " + output.string(), [&] {
+    return EncodeStreamingUnguarded(source, output, options, report, streaming);
+  });
 }
 
 Status SequenceFrameSource::ReadFrames(int first, int count, float* out) {
