@@ -1,6 +1,7 @@
 // dmc sweep: rate–distortion curves of dmc (one per Laplace operator) and of the baseline codecs
 // (Draco per frame, meshoptimizer + zstd, quantised deltas + zstd), all decoded and measured with
-// the same metrics; writes rd.csv, rd_sted.svg, rd_kg.svg and summary.md.
+// the same metrics; writes rd.csv, rd_sted.svg, rd_kg.svg, summary.md and yardstick.csv, and with
+// --baseline compares the dmc curves with a committed baseline's (baseline.md).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -15,9 +16,11 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "dmc/decoder.h"
 #include "dmc/io.h"
 #include "sweep/report.h"
 #include "sweep/sweep.h"
+#include "sweep/yardstick.h"
 
 namespace dmc::cli {
 namespace {
@@ -30,6 +33,10 @@ struct SweepArgs {
   std::vector<std::string> operators = sweep::SweepOptions().operators;
   std::vector<std::string> baselines = {"draco", "meshopt", "zstd"};
   std::vector<double> sted_targets = {0.01, 0.02, 0.05};
+  std::string baseline;  // yardstick CSV to compare with; empty = none
+  std::string sequence;  // the name in the yardstick; empty = SequenceNameOf(input)
+  double breakdown_sted = 0.02;
+  bool range_given = false;  // --points, --min- or --max-residual-bits on the command line
   sweep::SweepOptions options;
   GltfReadFlags gltf;
   bool json = false;
@@ -68,6 +75,17 @@ std::string CommandLine(const SweepArgs& args) {
       args.baselines.empty() ? "none" : Join(args.baselines), o.points, o.min_residual_bits,
       o.max_residual_bits, o.basis_bits, o.effort, o.min_baseline_bits, o.max_baseline_bits,
       targets);
+  if (!o.ladder.empty()) {
+    std::string rungs;
+    for (const double bits : o.ladder)
+      rungs += (rungs.empty() ? "" : ",") + fmt::format("{:g}", bits);
+    line += " --ladder " + rungs;
+  }
+  line += " --sequence " + ShellWord(args.sequence);
+  if (!args.baseline.empty()) {
+    line += fmt::format(" --baseline {} --breakdown-sted {:g}", ShellWord(args.baseline),
+                        args.breakdown_sted);
+  }
   if (args.max_frames > 0) line += fmt::format(" --max-frames {}", args.max_frames);
   if (!args.connectivity.empty()) line += " --connectivity " + args.connectivity;
   const GltfReadOptions& gltf = args.gltf.options;
@@ -100,12 +118,76 @@ nlohmann::json PointJson(const sweep::RdPoint& p) {
           {"basis_bits", optional_int(p.basis_bits)},
           {"residual_bits", p.residual_bits},
           {"anchors", optional_int(p.anchors)},
+          {"segments", optional_int(p.segments)},
+          {"segment_operators", p.segment_operators},
           {"bytes", p.bytes},
+          {"breakdown",
+           {{"header", p.header_bytes},
+            {"connectivity", p.connectivity_bytes},
+            {"mean", p.mean_bytes},
+            {"basis", p.basis_bytes},
+            {"operator", p.operator_bytes},
+            {"anchors", p.anchor_bytes},
+            {"residuals", p.residual_bytes}}},
           {"bpfv", p.bpfv},
           {"kg", p.kg},
           {"sted", p.sted},
           {"encode_s", p.encode_s},
           {"decode_s", p.decode_s}};
+}
+
+nlohmann::json RateJson(const sweep::RateAtTarget& rate) {
+  const char* kind = rate.kind == sweep::RateAtTarget::Kind::kInterpolated ? "interpolated"
+                     : rate.kind == sweep::RateAtTarget::Kind::kBelowRange ? "below-range"
+                                                                           : "above-range";
+  return {{"bpfv", rate.rate}, {"kind", kind}};
+}
+
+nlohmann::json RowJson(const sweep::YardstickRow& r) {
+  return {{"residual_bits", r.residual_bits},
+          {"rank", r.rank},
+          {"segment_operators", r.segment_operators},
+          {"bytes", r.bytes},
+          {"bpfv", r.bpfv},
+          {"kg", r.kg},
+          {"sted", r.sted},
+          {"breakdown",
+           {{"header", r.header_bytes},
+            {"connectivity", r.connectivity_bytes},
+            {"mean", r.mean_bytes},
+            {"basis", r.basis_bytes},
+            {"operator", r.operator_bytes},
+            {"anchors", r.anchor_bytes},
+            {"residuals", r.residual_bytes}}}};
+}
+
+nlohmann::json ComparisonJson(const sweep::BaselineComparison& c) {
+  const auto optional = [](const std::optional<double>& value) {
+    return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+  };
+  nlohmann::json targets = nlohmann::json::array();
+  for (const auto& target : c.targets) {
+    targets.push_back({{"sted", target.sted},
+                       {"current", RateJson(target.current)},
+                       {"baseline", RateJson(target.baseline)}});
+  }
+  return {{"curve", c.curve},
+          {"bd_rate_sted", optional(c.bd_rate_sted)},
+          {"bd_rate_kg", optional(c.bd_rate_kg)},
+          {"targets", targets},
+          {"current_near", RowJson(c.current_near)},
+          {"baseline_near", RowJson(c.baseline_near)}};
+}
+
+// The baseline file, parsed.
+StatusOr<sweep::Yardstick> ReadBaseline(const std::string& path) {
+  DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, ReadFileBytes(path));
+  StatusOr<sweep::Yardstick> yardstick = sweep::ParseYardstick(
+      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  if (!yardstick.ok()) {
+    return Status(yardstick.status().code(), path + ": " + yardstick.status().message());
+  }
+  return yardstick;
 }
 
 int RunSweep(SweepArgs args) {
@@ -129,6 +211,24 @@ int RunSweep(SweepArgs args) {
                          args.json);
     }
   }
+  if (!(args.breakdown_sted > 0.0)) {
+    return ReportError("sweep", InvalidArgumentError("--breakdown-sted must be positive"),
+                       args.json);
+  }
+  if (args.sequence.empty()) args.sequence = sweep::SequenceNameOf(args.input);
+  if (args.sequence.empty() || args.sequence.find_first_of(",\n\r") != std::string::npos) {
+    return ReportError("sweep",
+                       InvalidArgumentError("--sequence must be a name without commas or line "
+                                            "breaks, got '" +
+                                            args.sequence + "'"),
+                       args.json);
+  }
+  std::optional<sweep::Yardstick> baseline;
+  if (!args.baseline.empty()) {
+    StatusOr<sweep::Yardstick> read = ReadBaseline(args.baseline);
+    if (!read.ok()) return ReportError("sweep", read.status(), args.json);
+    baseline = std::move(*read);
+  }
   const std::filesystem::path output(args.output);
   std::error_code error;
   std::filesystem::create_directories(output, error);
@@ -151,6 +251,24 @@ int RunSweep(SweepArgs args) {
     for (const std::string& warning : read_report.warnings) ReportWarning("sweep", warning);
     fmt::print("{}: {} frames x {} vertices\n", args.input, sequence->frame_count(),
                sequence->vertex_count());
+  }
+  std::vector<sweep::YardstickRow> baseline_curve;
+  if (baseline) {
+    StatusOr<std::vector<sweep::YardstickRow>> curve = sweep::BaselineCurve(
+        *baseline, args.sequence, sequence->vertex_count(), sequence->frame_count());
+    if (!curve.ok()) {
+      return ReportError(
+          "sweep", Status(curve.status().code(), args.baseline + ": " + curve.status().message()),
+          args.json);
+    }
+    baseline_curve = std::move(*curve);
+    // The baseline's own ladder, unless the command line gives one.
+    if (options.ladder.empty() && !args.range_given) {
+      for (const sweep::YardstickRow& row : baseline_curve) {
+        options.ladder.push_back(row.residual_bits);
+      }
+      args.options.ladder = options.ladder;
+    }
   }
 
   std::optional<Progress> progress;
@@ -181,17 +299,39 @@ int RunSweep(SweepArgs args) {
   context.sted = options.sted;
   context.sted_targets = args.sted_targets;
   context.warnings = result->warnings;
+  const std::vector<sweep::YardstickRow> rows =
+      sweep::YardstickRows(args.sequence, sequence->vertex_count(), sequence->frame_count(),
+                           options.effort, result->points);
+  std::vector<sweep::BaselineComparison> comparisons;
+  for (const std::string& name : args.operators) {
+    std::vector<sweep::YardstickRow> curve;
+    for (const sweep::YardstickRow& row : rows) {
+      if (row.operator_name == name) curve.push_back(row);
+    }
+    if (!baseline_curve.empty() && !curve.empty()) {
+      comparisons.push_back(sweep::CompareWithBaseline(baseline_curve, curve, args.sted_targets,
+                                                       args.breakdown_sted));
+    }
+  }
+  const std::string comparison_md =
+      baseline ? sweep::ComparisonMarkdown(args.sequence, comparisons, args.breakdown_sted) : "";
   const std::string subtitle = fmt::format("{}: {} vertices × {} frames",
                                            sequence->name.empty() ? args.input : sequence->name,
                                            sequence->vertex_count(), sequence->frame_count());
-  const std::pair<std::string, std::string> files[] = {
+  std::vector<std::pair<std::string, std::string>> files = {
       {"rd.csv", sweep::RdCsv(result->points)},
       {"rd_sted.svg",
        sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kSted, subtitle))},
       {"rd_kg.svg",
        sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kKg, subtitle))},
       {"summary.md", sweep::SummaryMarkdown(result->points, context)},
+      {"yardstick.csv",
+       sweep::YardstickCsv({{"input", args.input}, {"command", context.command}}, rows)},
   };
+  if (baseline) {
+    files.emplace_back("baseline.md",
+                       fmt::format("Baseline: `{}`\n\n{}", args.baseline, comparison_md));
+  }
   for (const auto& [name, text] : files) {
     if (Status written = WriteText(output / name, text); !written.ok()) {
       return ReportError("sweep", written, args.json);
@@ -201,16 +341,24 @@ int RunSweep(SweepArgs args) {
   if (args.json) {
     nlohmann::json points = nlohmann::json::array();
     for (const sweep::RdPoint& point : result->points) points.push_back(PointJson(point));
+    nlohmann::json compared = nlohmann::json::array();
+    for (const sweep::BaselineComparison& c : comparisons) compared.push_back(ComparisonJson(c));
     PrintJson({{"input", args.input},
+               {"sequence", args.sequence},
                {"vertices", sequence->vertex_count()},
                {"frames", sequence->frame_count()},
                {"output", args.output},
                {"points", points},
+               {"baseline", baseline ? nlohmann::json(args.baseline) : nlohmann::json(nullptr)},
+               {"comparisons", compared},
                {"warnings", result->warnings}});
     return 0;
   }
   fmt::print("\n{}", sweep::RateTargetTable(result->points, context));
-  fmt::print("wrote {0}/rd.csv, {0}/rd_sted.svg, {0}/rd_kg.svg, {0}/summary.md\n", args.output);
+  if (baseline) fmt::print("{}", comparison_md);
+  fmt::print(
+      "wrote {0}/rd.csv, {0}/rd_sted.svg, {0}/rd_kg.svg, {0}/summary.md, {0}/yardstick.csv{1}\n",
+      args.output, baseline ? fmt::format(", {}/baseline.md", args.output) : "");
   return 0;
 }
 
@@ -222,7 +370,8 @@ Command AddSweepCommand(CLI::App& parent) {
       "sweep",
       "Rate-distortion sweep: encode, decode and measure INPUT at a ladder of rates with dmc "
       "(one curve per operator) and with baseline codecs; writes DIR/rd.csv, DIR/rd_sted.svg, "
-      "DIR/rd_kg.svg and DIR/summary.md");
+      "DIR/rd_kg.svg, DIR/summary.md and DIR/yardstick.csv (the dmc points as rows of the "
+      "rate-distortion yardstick); with --baseline also DIR/baseline.md");
   app->add_option("INPUT", args->input,
                   "Sequence: a directory of .obj/.off/.ply frames, a glob, a .pc2 cache, or a "
                   ".glb/.gltf animation")
@@ -240,12 +389,28 @@ Command AddSweepCommand(CLI::App& parent) {
       ->delimiter(',')
       ->capture_default_str();
   sweep::SweepOptions& o = args->options;
-  app->add_option("--points", o.points, "Ladder rungs per curve (>= 2)")->capture_default_str();
-  app->add_option("--min-residual-bits", o.min_residual_bits,
-                  "dmc ladder: coarsest residual step = diagonal * 2^-bits")
-      ->capture_default_str();
-  app->add_option("--max-residual-bits", o.max_residual_bits,
-                  "dmc ladder: finest residual step = diagonal * 2^-bits")
+  CLI::Option* points =
+      app->add_option("--points", o.points, "Ladder rungs per curve (>= 2)")->capture_default_str();
+  CLI::Option* min_bits = app->add_option("--min-residual-bits", o.min_residual_bits,
+                                          "dmc ladder: coarsest residual step = diagonal * 2^-bits")
+                              ->capture_default_str();
+  CLI::Option* max_bits = app->add_option("--max-residual-bits", o.max_residual_bits,
+                                          "dmc ladder: finest residual step = diagonal * 2^-bits")
+                              ->capture_default_str();
+  app->add_option("--ladder", o.ladder,
+                  "dmc ladder given rung by rung: comma-separated residual bits (replaces "
+                  "--points/--min-/--max-residual-bits for dmc; with --baseline the default is "
+                  "the baseline's ladder for the sequence)")
+      ->delimiter(',');
+  app->add_option("--baseline", args->baseline,
+                  "Yardstick CSV (bench/rd/baseline.csv) to compare the dmc curves with: BD-rates "
+                  "in STED and KG against its curve for the sequence, the bpfv at each STED "
+                  "target, and the bytes per element near --breakdown-sted");
+  app->add_option("--sequence", args->sequence,
+                  "The sequence's name in the yardstick (default: the input directory's name, or "
+                  "the file's name without extension)");
+  app->add_option("--breakdown-sted", args->breakdown_sted,
+                  "With --baseline: the bytes per element of the points nearest this STED")
       ->capture_default_str();
   app->add_option("--basis-bits", o.basis_bits,
                   "dmc basis quantisation bits (0 = clamp(residual bits, 10, 16) per rung)")
@@ -272,7 +437,10 @@ Command AddSweepCommand(CLI::App& parent) {
       ->capture_default_str();
   AddGltfReadOptions(app, &args->gltf);
   app->add_flag("--json", args->json, "Print the points as JSON instead of the text report");
-  return {app, [args] { return RunSweep(*args); }};
+  return {app, [args, points, min_bits, max_bits] {
+            args->range_given = points->count() + min_bits->count() + max_bits->count() > 0;
+            return RunSweep(*args);
+          }};
 }
 
 }  // namespace dmc::cli

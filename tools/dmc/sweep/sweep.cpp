@@ -23,6 +23,25 @@ std::string Describe(const Status& status) {
   return std::string(ErrorCodeName(status.code())) + ": " + status.message();
 }
 
+// "ddl:2 tutte:1": each operator with its segment count, in order of first use.
+std::string CountOperators(const std::vector<std::string>& segment_operators) {
+  std::vector<std::pair<std::string, int>> counts;
+  for (const std::string& name : segment_operators) {
+    const auto found = std::find_if(counts.begin(), counts.end(),
+                                    [&](const auto& count) { return count.first == name; });
+    if (found == counts.end()) {
+      counts.emplace_back(name, 1);
+    } else {
+      ++found->second;
+    }
+  }
+  std::string text;
+  for (const auto& [name, count] : counts) {
+    text += fmt::format("{}{}:{}", text.empty() ? "" : " ", name, count);
+  }
+  return text;
+}
+
 // Encodes, decodes and measures one dmc rung. kUnsupported and kNotFound come back as errors
 // (the caller drops the curve); everything else too, but the caller only skips the point.
 StatusOr<RdPoint> RunDmcPoint(const MeshSequence& sequence, const DistortionMeter& meter,
@@ -51,7 +70,16 @@ StatusOr<RdPoint> RunDmcPoint(const MeshSequence& sequence, const DistortionMete
   point.basis_bits = basis_bits;
   point.residual_bits = residual_bits;
   point.anchors = report.anchors;
+  point.segments = report.segments;
+  point.segment_operators = CountOperators(report.segment_operators);
   point.bytes = bytes.size();
+  point.header_bytes = report.header_bytes;
+  point.connectivity_bytes = report.connectivity_bytes;
+  point.mean_bytes = report.mean_bytes;
+  point.basis_bytes = report.basis_bytes;
+  point.operator_bytes = report.operator_bytes;
+  point.anchor_bytes = report.anchor_bytes;
+  point.residual_bytes = report.residual_bytes;
   point.bpfv = report.bpfv;
   point.kg = distortion.kg;
   point.sted = distortion.sted;
@@ -101,6 +129,11 @@ Status ValidateSweepOptions(const SweepOptions& options) {
       options.min_residual_bits > options.max_residual_bits) {
     return InvalidArgumentError("residual bits range must satisfy 1 <= min <= max <= 30");
   }
+  for (const double bits : options.ladder) {
+    if (!bits_ok(bits)) {
+      return InvalidArgumentError(fmt::format("--ladder rungs must be in [1, 30], got {}", bits));
+    }
+  }
   if (options.basis_bits != 0 && (options.basis_bits < 2 || options.basis_bits > 16)) {
     return InvalidArgumentError("--basis-bits must be 0 (follow the rung) or in [2, 16], got " +
                                 std::to_string(options.basis_bits));
@@ -123,6 +156,12 @@ Status ValidateSweepOptions(const SweepOptions& options) {
 }
 
 std::vector<double> ResidualBitsLadder(const SweepOptions& options) {
+  if (!options.ladder.empty()) {
+    std::vector<double> ladder = options.ladder;
+    std::sort(ladder.begin(), ladder.end());
+    ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
+    return ladder;
+  }
   std::vector<double> ladder;
   for (int k = 0; k < options.points; ++k) {
     ladder.push_back(options.min_residual_bits +

@@ -38,7 +38,14 @@ struct RdPoint {
   int basis_bits = -1;        // dmc: basis quantisation bits; -1 for baselines
   double residual_bits = 0;   // dmc: log2(diagonal / residual step); baselines: position bits
   int anchors = -1;           // dmc: anchors of the first segment; -1 for baselines
+  int segments = -1;          // dmc: segments of the stream; -1 for baselines
+  // dmc: the operator each segment was coded with, as "name:count" in order of first use,
+  // space-separated ("ddl:2 tutte:1"); empty for baselines.
+  std::string segment_operators;
   uint64_t bytes = 0;
+  // dmc: bytes per syntax element (EncodeReport's, they sum to `bytes`); 0 for baselines.
+  uint64_t header_bytes = 0, connectivity_bytes = 0, mean_bytes = 0, basis_bytes = 0,
+           operator_bytes = 0, anchor_bytes = 0, residual_bytes = 0;
   double bpfv = 0.0;
   double kg = 0.0;
   double sted = 0.0;
@@ -57,6 +64,9 @@ struct SweepOptions {
   int points = 8;  // rungs per curve, ≥ 2
   double min_residual_bits = 5.0;
   double max_residual_bits = 16.0;
+  // The dmc rungs given one by one (residual bits); when not empty they replace the even ladder
+  // of points / min / max (which still spaces the baselines' bits).
+  std::vector<double> ladder;
   int basis_bits = 0;                    // 0: follow the rung (BasisBitsFor), else fixed (2..16)
   int effort = EncoderOptions().effort;  // the dmc encoder's search effort, 0..kMaxEffort
   int min_baseline_bits = 8;
@@ -64,13 +74,14 @@ struct SweepOptions {
   StedOptions sted;
 };
 
-// kInvalidArgument naming the first bad field: points < 2, residual bits outside [1, 30] or
-// min > max, basis_bits not 0 or in [2, 16], effort outside [0, kMaxEffort], baseline bits outside
-// [kMinBaselineBits, kMaxBaselineBits] or min > max, no operator and no baseline, invalid STED
-// options.
+// kInvalidArgument naming the first bad field: points < 2, residual bits (of the range or of an
+// explicit ladder rung) outside [1, 30] or min > max, basis_bits not 0 or in [2, 16], effort
+// outside [0, kMaxEffort], baseline bits outside [kMinBaselineBits, kMaxBaselineBits] or min > max,
+// no operator and no baseline, invalid STED options.
 Status ValidateSweepOptions(const SweepOptions& options);
 
-// The rungs of the dmc ladder (fractional bits, increasing).
+// The rungs of the dmc ladder (fractional bits, increasing, distinct): the explicit ladder when
+// given, else `points` rungs evenly over [min_residual_bits, max_residual_bits].
 std::vector<double> ResidualBitsLadder(const SweepOptions& options);
 // The baseline quantisation bits (integers, increasing, distinct).
 std::vector<int> BaselineBitsLadder(const SweepOptions& options);
