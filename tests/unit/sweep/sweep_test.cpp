@@ -42,6 +42,18 @@ TEST(Ladders, SpreadTheRungsEvenly) {
   EXPECT_EQ(BaselineBitsLadder(options).size(), 9u);
 }
 
+TEST(Ladders, AnExplicitLadderReplacesTheEvenOneForDmcOnly) {
+  SweepOptions options;
+  options.ladder = {12.0, 7.5, 12.0, 9.0};
+  EXPECT_EQ(ResidualBitsLadder(options), (std::vector<double>{7.5, 9.0, 12.0}));
+  EXPECT_EQ(BaselineBitsLadder(options).size(), 8u);  // still spaced by points
+  EXPECT_TRUE(ValidateSweepOptions(options).ok());
+  options.ladder = {10.0, 0.5};
+  const Status status = ValidateSweepOptions(options);
+  EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument);
+  EXPECT_THAT(status.message(), HasSubstr("--ladder rungs must be in [1, 30], got 0.5"));
+}
+
 TEST(Ladders, BasisBitsFollowTheRungUnlessFixed) {
   EXPECT_EQ(BasisBitsFor(5.0, 0), 10);
   EXPECT_EQ(BasisBitsFor(13.4, 0), 13);
@@ -130,6 +142,16 @@ TEST(RunSweep, PointsAreWhatASeparateEncodeDecodeAndMeasureGives) {
   ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
   EXPECT_EQ(bytes->size(), middle.bytes);
   EXPECT_EQ(report.rank, middle.rank);
+  // The per-element bytes and the operators are the encoder's report, and cover the stream.
+  EXPECT_EQ(middle.residual_bytes, report.residual_bytes);
+  EXPECT_EQ(middle.basis_bytes, report.basis_bytes);
+  EXPECT_EQ(middle.header_bytes + middle.connectivity_bytes + middle.mean_bytes +
+                middle.basis_bytes + middle.operator_bytes + middle.anchor_bytes +
+                middle.residual_bytes,
+            middle.bytes);
+  EXPECT_EQ(middle.segments, report.segments);
+  EXPECT_EQ(middle.segment_operators, "tutte:" + std::to_string(report.segments));
+  EXPECT_EQ(result->points[3].residual_bytes, 0u);  // a baseline codec's point has none
   ASSERT_TRUE(report.measured);
   EXPECT_DOUBLE_EQ(report.distortion.kg, middle.kg);
   EXPECT_DOUBLE_EQ(report.distortion.sted, middle.sted);
