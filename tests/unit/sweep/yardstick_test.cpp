@@ -70,9 +70,9 @@ TEST(Yardstick, CsvReadsBackExactly) {
     EXPECT_EQ(b.operator_name, a.operator_name);
     EXPECT_EQ(b.effort, a.effort);
     EXPECT_EQ(b.residual_bits, a.residual_bits);
-    EXPECT_NEAR(b.bpfv, a.bpfv, 1e-5 * a.bpfv);  // 6 significant digits
-    EXPECT_NEAR(b.sted, a.sted, 1e-5 * a.sted);
-    EXPECT_NEAR(b.kg, a.kg, 1e-5 * a.kg);
+    EXPECT_EQ(b.bpfv, a.bpfv);  // written exactly
+    EXPECT_EQ(b.sted, a.sted);
+    EXPECT_EQ(b.kg, a.kg);
     EXPECT_EQ(b.rank, a.rank);
     EXPECT_EQ(b.basis_bits, a.basis_bits);
     EXPECT_EQ(b.segments, a.segments);

@@ -56,7 +56,8 @@ inline constexpr const char* kYardstickHeader =
 std::vector<YardstickRow> YardstickRows(const std::string& sequence, int vertices, int frames,
                                         int effort, const std::vector<RdPoint>& points);
 
-// The metadata as comment lines, the header, the rows. Numbers keep 6 significant digits.
+// The metadata as comment lines, the header, the rows. Numbers are written exactly (the shortest
+// text that reads back as the same double).
 std::string YardstickCsv(const YardstickMeta& meta, const std::vector<YardstickRow>& rows);
 
 // Reads a YardstickCsv text. kParseError naming the line (1-based) and the column for a missing
