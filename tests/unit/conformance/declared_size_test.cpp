@@ -207,8 +207,8 @@ MeshSequence Fan(int ring, int frames) {
 }
 
 TEST(DeclaredSizes, NormalMatrixAboveTheLimitIsResourceLimit) {
-  // A fan of 3000 triangles declares 84 KB of output, but its centre's row of L meets every
-  // other row in LᵀL: about 3000² entries, over 100 MB. The limit bounds that too.
+  // A fan of 3000 triangles in 3 frames declares 144 KB of output, but its centre's row of L meets
+  // every other row in LᵀL: about 3000² entries, over 100 MB. The limit bounds that too.
   const MeshSequence fan = Fan(3000, 3);
   EncoderOptions options;
   options.measure = false;
