@@ -297,7 +297,8 @@ py::object EncodeKeywords(const py::handle& frames, const py::handle& faces,
   return EncodeBinding(frames, faces, options, name, frame_rate, return_report);
 }
 
-constexpr const char* kDecodeDoc = R"(decode(data, max_output_bytes=4 GiB) -> (frames, faces)
+constexpr const char* kDecodeDoc =
+    R"(decode(data, max_output_bytes=4 GiB, max_matrix_bytes=4 GiB) -> (frames, faces)
 
 Decodes a .dmc stream.
 
@@ -307,6 +308,9 @@ Args:
     max_output_bytes: refuse (RESOURCE_LIMIT), before decoding, a stream whose output would
         exceed this many bytes (12 per vertex and frame, 12 per triangle); 0 for no limit but
         the format's 16 GiB.
+    max_matrix_bytes: refuse (RESOURCE_LIMIT) a segment whose normal matrix or Cholesky factor
+        would exceed this many bytes, before building it (their size follows the connectivity's
+        structure: one vertex of degree d puts d² entries in the normal matrix); 0 for no limit.
 
 Returns:
     (frames, faces): float32 array (F, V, 3) and int32 array (T, 3), equal to what `dmc decode`
@@ -315,7 +319,7 @@ Returns:
 Raises:
     dmc.Error: CORRUPT_STREAM (checksum mismatch, impossible value), TRUNCATED_STREAM, UNSUPPORTED
         (newer format or unknown method), IO_ERROR (unreadable path), INVALID_ARGUMENT (not
-        bytes-like), RESOURCE_LIMIT (output above max_output_bytes, or memory ran out).
+        bytes-like), RESOURCE_LIMIT (output or normal equations above their limit, or memory ran out).
 )";
 
 constexpr const char* kInfoDoc = R"(info(data) -> dict
@@ -341,16 +345,18 @@ void RegisterCodec(py::module_& module) {
 
   module.def(
       "decode",
-      [](const py::handle& data, uint64_t max_output_bytes) {
+      [](const py::handle& data, uint64_t max_output_bytes, uint64_t max_matrix_bytes) {
         DecoderOptions options;
         options.max_output_bytes = max_output_bytes;
+        options.max_matrix_bytes = max_matrix_bytes;
         MeshSequence sequence = WithStream(data, [&](std::span<const uint8_t> bytes) {
           return ValueOrThrow(Decode(bytes, options));
         });
         return SequenceToArrays(std::move(sequence));
       },
       kDecodeDoc, py::arg("data"), py::kw_only(),
-      py::arg("max_output_bytes") = DecoderOptions().max_output_bytes);
+      py::arg("max_output_bytes") = DecoderOptions().max_output_bytes,
+      py::arg("max_matrix_bytes") = DecoderOptions().max_matrix_bytes);
 
   module.def(
       "info",

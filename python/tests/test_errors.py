@@ -152,6 +152,9 @@ class BadInputTest(unittest.TestCase):
         decoded, _ = dmc.decode(stream, max_output_bytes=output_bytes)
         self.assertEqual(decoded.shape, frames.shape)
         self.assertEqual(dmc.decode(stream, max_output_bytes=0)[0].shape, frames.shape)
+        self.assert_error(dmc.ErrorCode.RESOURCE_LIMIT,
+                          lambda: dmc.decode(stream, max_matrix_bytes=64), "normal matrix")
+        self.assertEqual(dmc.decode(stream, max_matrix_bytes=0)[0].shape, frames.shape)
 
     def assert_error_in(self, codes, call):
         with self.assertRaises(dmc.Error) as caught:
