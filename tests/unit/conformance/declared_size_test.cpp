@@ -20,49 +20,13 @@
 #include "dmc/wire_ids.h"
 #include "encoder/range_encoder.h"
 #include "encoder/syntax_writer.h"
-#include "entropy/byte_io.h"
 #include "test_support.h"
+#include "unit/conformance/stream_chunks.h"
 
 namespace dmc {
 namespace {
 
-struct Chunk {
-  uint8_t type = 0;
-  std::vector<uint8_t> payload;
-};
-
-// Preamble and chunks of one of our own streams (no checks), and the stream framed again.
-std::vector<Chunk> Split(const std::vector<uint8_t>& stream, std::vector<uint8_t>* preamble) {
-  ByteReader reader(stream);
-  std::span<const uint8_t> bytes;
-  EXPECT_TRUE(reader.GetBytes(7, &bytes, "preamble").ok());
-  preamble->assign(bytes.begin(), bytes.end());
-  std::vector<Chunk> chunks;
-  while (!reader.at_end()) {
-    Chunk chunk;
-    uint64_t size = 0;
-    uint32_t checksum = 0;
-    EXPECT_TRUE(reader.GetU8(&chunk.type, "type").ok());
-    EXPECT_TRUE(reader.GetVarU(&size, "size").ok());
-    EXPECT_TRUE(reader.GetBytes(size, &bytes, "payload").ok());
-    EXPECT_TRUE(reader.GetU32(&checksum, "checksum").ok());
-    chunk.payload.assign(bytes.begin(), bytes.end());
-    chunks.push_back(std::move(chunk));
-  }
-  return chunks;
-}
-
-std::vector<uint8_t> Join(const std::vector<uint8_t>& preamble, const std::vector<Chunk>& chunks) {
-  ByteWriter out;
-  out.PutBytes(preamble);
-  for (const Chunk& chunk : chunks) {
-    out.PutU8(chunk.type);
-    out.PutVarU(chunk.payload.size());
-    out.PutBytes(chunk.payload);
-    out.PutU32(format::ChunkChecksum(chunk.type, chunk.payload));
-  }
-  return out.Take();
-}
+using testing::Chunk;
 
 std::vector<uint8_t> EncodeSynthetic(const char* generator, int resolution, int frames,
                                      const char* operator_name) {
@@ -175,7 +139,7 @@ TEST(DeclaredSizes, DdlWeightsBeyondTheOperatorPayloadAreCorrupt) {
   const std::vector<uint8_t> stream = EncodeSynthetic("cloth", 65000, 1, "tutte");
   ASSERT_FALSE(stream.empty());
   std::vector<uint8_t> preamble;
-  std::vector<Chunk> chunks = Split(stream, &preamble);
+  std::vector<Chunk> chunks = testing::SplitChunks(stream, &preamble);
   StatusOr<format::SegmentHeader> header = [&] {
     std::span<const uint8_t> payload(chunks[kSegmentHeader].payload);
     return syntax::ReadSegmentHeader(payload, 0, 1, ReadStreamInfo(stream)->vertex_count);
@@ -184,7 +148,7 @@ TEST(DeclaredSizes, DdlWeightsBeyondTheOperatorPayloadAreCorrupt) {
   header->operator_id = static_cast<uint8_t>(OperatorId::kDdl);
   chunks[kSegmentHeader].payload = syntax::WriteSegmentHeader(*header);
   chunks[kOperator].payload = {0, 0, 0, 0, 0};
-  const Status status = Decode(Join(preamble, chunks)).status();
+  const Status status = Decode(testing::JoinChunks(preamble, chunks)).status();
   EXPECT_EQ(status.code(), ErrorCode::kCorruptStream) << status.ToString();
   EXPECT_NE(status.message().find("DDL weight payload of 5 bytes"), std::string::npos)
       << status.message();

@@ -29,6 +29,7 @@
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
 #include "test_support.h"
+#include "unit/conformance/stream_chunks.h"
 
 namespace dmc {
 
@@ -39,45 +40,9 @@ namespace {
 
 __extension__ typedef __int128 Int128;  // exact reference arithmetic (GCC/Clang extension)
 
-struct Chunk {
-  uint8_t type = 0;
-  std::vector<uint8_t> payload;
-};
-
-// Splits a valid stream into its preamble and chunks (no checks: the input is our own encoding).
-std::vector<Chunk> SplitChunks(const std::vector<uint8_t>& stream, std::vector<uint8_t>* preamble) {
-  ByteReader reader(stream);
-  std::span<const uint8_t> bytes;
-  EXPECT_TRUE(reader.GetBytes(7, &bytes, "preamble").ok());
-  preamble->assign(bytes.begin(), bytes.end());
-  std::vector<Chunk> chunks;
-  while (!reader.at_end()) {
-    Chunk chunk;
-    uint64_t size = 0;
-    uint32_t checksum = 0;
-    EXPECT_TRUE(reader.GetU8(&chunk.type, "type").ok());
-    EXPECT_TRUE(reader.GetVarU(&size, "size").ok());
-    EXPECT_TRUE(reader.GetBytes(size, &bytes, "payload").ok());
-    EXPECT_TRUE(reader.GetU32(&checksum, "checksum").ok());
-    chunk.payload.assign(bytes.begin(), bytes.end());
-    chunks.push_back(std::move(chunk));
-  }
-  return chunks;
-}
-
-// Frames chunks again with correct checksums.
-std::vector<uint8_t> JoinChunks(const std::vector<uint8_t>& preamble,
-                                const std::vector<Chunk>& chunks) {
-  ByteWriter out;
-  out.PutBytes(preamble);
-  for (const Chunk& chunk : chunks) {
-    out.PutU8(chunk.type);
-    out.PutVarU(chunk.payload.size());
-    out.PutBytes(chunk.payload);
-    out.PutU32(format::ChunkChecksum(chunk.type, chunk.payload));
-  }
-  return out.Take();
-}
+using testing::Chunk;
+using testing::JoinChunks;
+using testing::SplitChunks;
 
 // A small valid one-segment DDL stream (twist, ~100 vertices, 3 frames) shared by the tests.
 const std::vector<uint8_t>& SmallStream() {
