@@ -33,6 +33,8 @@ double Median(std::vector<double> values) {
   return values.size() % 2 ? values[mid] : 0.5 * (values[mid - 1] + values[mid]);
 }
 
+}  // namespace
+
 std::string RateCell(const RateAtTarget& rate) {
   switch (rate.kind) {
     case RateAtTarget::Kind::kInterpolated:
@@ -48,8 +50,6 @@ std::string RateCell(const RateAtTarget& rate) {
 std::string PercentCell(const std::optional<double>& percent) {
   return percent ? fmt::format("{:+.1f} %", *percent) : "–";
 }
-
-}  // namespace
 
 std::string RdCsv(const std::vector<RdPoint>& points) {
   std::string csv = std::string(kRdCsvHeader) + "\n";

@@ -1,10 +1,12 @@
 // What `dmc sweep` writes: rd.csv, the two plots and summary.md.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dmc/metrics.h"
+#include "sweep/rd_analysis.h"
 #include "sweep/svg_plot.h"
 #include "sweep/sweep.h"
 
@@ -21,6 +23,11 @@ std::string RdCsv(const std::vector<RdPoint>& points);
 
 // The curves in the order they were swept ("dmc/<op>" first, then the baselines).
 std::vector<std::string> CurveNames(const std::vector<RdPoint>& points);
+
+// Table cells of the summaries (summary.md, baseline.md): a rate for a target as interpolated,
+// "≤ r" below or "> r" above the curve's range, "–" when there is none; a signed percentage.
+std::string RateCell(const RateAtTarget& rate);
+std::string PercentCell(const std::optional<double>& percent);
 
 enum class RdMetric { kSted, kKg };
 

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <map>
 
+#include "sweep/report.h"
+
 namespace dmc::sweep {
 namespace {
 
@@ -45,22 +47,6 @@ std::string Percent(uint64_t part, uint64_t whole) {
   return whole == 0 ? "–"
                     : fmt::format("{:.1f}",
                                   100.0 * static_cast<double>(part) / static_cast<double>(whole));
-}
-
-std::string RateCell(const RateAtTarget& rate) {
-  switch (rate.kind) {
-    case RateAtTarget::Kind::kInterpolated:
-      return fmt::format("{:.3g}", rate.rate);
-    case RateAtTarget::Kind::kBelowRange:
-      return fmt::format("≤ {:.3g}", rate.rate);
-    case RateAtTarget::Kind::kAboveRange:
-      return rate.rate > 0.0 ? fmt::format("> {:.3g}", rate.rate) : "–";
-  }
-  return "–";
-}
-
-std::string PercentCell(const std::optional<double>& percent) {
-  return percent ? fmt::format("{:+.1f} %", *percent) : "–";
 }
 
 }  // namespace
