@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <iterator>
 #include <string>
 
 namespace dmc::testing {
@@ -36,6 +36,12 @@ inline std::string Quoted(const std::filesystem::path& path) {
   return quoted;
 }
 
+// The whole file, byte for byte ("" when it cannot be read).
+inline std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 // Runs `dmc <args>` through the shell (args are passed verbatim; quote paths with spaces).
 inline CliResult RunDmc(const std::string& args) {
   const auto dir = std::filesystem::temp_directory_path();
@@ -48,14 +54,8 @@ inline CliResult RunDmc(const std::string& args) {
   const int raw = std::system(command.c_str());
   CliResult result;
   result.exit_code = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  auto slurp = [](const std::filesystem::path& path) {
-    std::ifstream in(path);
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    return buffer.str();
-  };
-  result.out = slurp(out_path);
-  result.err = slurp(err_path);
+  result.out = ReadText(out_path);
+  result.err = ReadText(err_path);
   std::filesystem::remove(out_path);
   std::filesystem::remove(err_path);
   return result;

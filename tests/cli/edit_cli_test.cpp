@@ -3,20 +3,12 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "cli/cli_runner.h"
 #include "dmc/io.h"
 
 namespace dmc::testing {
 namespace {
-
-std::string Slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
 
 // A small blob animation as a PC2 cache (plus its OBJ) in `dir`.
 std::filesystem::path Blob(const std::filesystem::path& dir, int frames) {
@@ -87,7 +79,7 @@ TEST(EditCli, CurvatureWritesAScalarPlyPerFrame) {
                                   " --operator cotan-area --frame-operator");
   ASSERT_EQ(result.exit_code, 0) << result.err;
   for (const char* frame : {"frame_0000.ply", "frame_0001.ply"}) {
-    const std::string text = Slurp(output / frame);
+    const std::string text = ReadText(output / frame);
     EXPECT_NE(text.find("property float mean_curvature"), std::string::npos) << frame;
     EXPECT_NE(text.find("property uchar red"), std::string::npos) << frame;
   }
@@ -104,7 +96,7 @@ TEST(EditCli, CurvatureWritesAScalarPlyPerFrame) {
       RunDmc("edit curvature " + Quoted(obj) + " -o " + Quoted(single) + " --operator cotan-area")
           .exit_code,
       0);
-  EXPECT_NE(Slurp(single).find("mean_curvature"), std::string::npos);
+  EXPECT_NE(ReadText(single).find("mean_curvature"), std::string::npos);
 }
 
 TEST(EditCli, WholeSequenceAndPerFrameMethods) {

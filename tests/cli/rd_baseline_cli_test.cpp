@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "cli/cli_runner.h"
@@ -19,14 +18,8 @@ namespace {
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
 using testing::Quoted;
+using testing::ReadText;
 using testing::RunDmc;
-
-std::string Slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
 
 TEST(RdBaselineCli, ARerunAgainstItsOwnBaselineIsZeroOnTheBaselinesLadder) {
   const auto dir = FreshTempDir("rd-baseline");
@@ -37,7 +30,7 @@ TEST(RdBaselineCli, ARerunAgainstItsOwnBaselineIsZeroOnTheBaselinesLadder) {
   const auto first = RunDmc("sweep " + Quoted(walker) + " -o " + Quoted(dir / "base") +
                             " --operators tutte --baselines none --ladder 9,7,11");
   ASSERT_EQ(first.exit_code, 0) << first.err;
-  const std::string csv = Slurp(dir / "base" / "yardstick.csv");
+  const std::string csv = ReadText(dir / "base" / "yardstick.csv");
   EXPECT_THAT(csv, HasSubstr("# command: dmc sweep "));
   EXPECT_THAT(csv, HasSubstr("\nsequence,vertices,frames,operator,effort,residual_bits,"));
   EXPECT_THAT(csv, HasSubstr("\nwalker,"));  // named after the input directory
@@ -64,7 +57,8 @@ TEST(RdBaselineCli, ARerunAgainstItsOwnBaselineIsZeroOnTheBaselinesLadder) {
   EXPECT_NEAR(comparison["bd_rate_kg"].get<double>(), 0.0, 1e-9);
   EXPECT_EQ(comparison["targets"].size(), 3u);
   EXPECT_EQ(comparison["current_near"]["bytes"], comparison["baseline_near"]["bytes"]);
-  EXPECT_THAT(Slurp(dir / "again" / "baseline.md"), HasSubstr("| dmc/tutte | +0.0 % | +0.0 % |"));
+  EXPECT_THAT(ReadText(dir / "again" / "baseline.md"),
+              HasSubstr("| dmc/tutte | +0.0 % | +0.0 % |"));
 }
 
 TEST(RdBaselineCli, ASequenceTheBaselineLacksOrHoldsAtAnotherLengthIsRefused) {

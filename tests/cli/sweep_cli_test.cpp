@@ -4,9 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
 #include "cli/cli_runner.h"
@@ -18,14 +16,8 @@ namespace {
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
 using testing::Quoted;
+using testing::ReadText;
 using testing::RunDmc;
-
-std::string Slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
 
 // A small walker written as OBJ frames by `dmc synth`.
 std::filesystem::path SmallWalker(const std::filesystem::path& dir) {
@@ -43,7 +35,7 @@ TEST(SweepCliTest, WritesTheCsvThePlotsAndTheSummary) {
                              " --operators tutte --baselines zstd,draco --points 2");
   ASSERT_EQ(result.exit_code, 0) << result.err;
 
-  const std::string csv = Slurp(output / "rd.csv");
+  const std::string csv = ReadText(output / "rd.csv");
   EXPECT_EQ(csv.rfind("codec,operator,rank,basis_bits,residual_bits,anchors,bpfv,kg,sted,"
                       "encode_s,decode_s\n",
                       0),
@@ -53,13 +45,13 @@ TEST(SweepCliTest, WritesTheCsvThePlotsAndTheSummary) {
   EXPECT_THAT(csv, HasSubstr("\nzstd,,,,8,,"));
   EXPECT_THAT(csv, HasSubstr("\ndraco,,,,16,,"));
   for (const char* plot : {"rd_sted.svg", "rd_kg.svg"}) {
-    const std::string svg = Slurp(output / plot);
+    const std::string svg = ReadText(output / plot);
     EXPECT_EQ(svg.rfind("<svg", 0), 0u) << plot;
     EXPECT_EQ(std::count(svg.begin(), svg.end(), '\n') > 10, true) << plot;
     EXPECT_THAT(svg, HasSubstr(">dmc/tutte</text>"));
     EXPECT_THAT(svg, HasSubstr(">draco</text>"));
   }
-  const std::string summary = Slurp(output / "summary.md");
+  const std::string summary = ReadText(output / "summary.md");
   EXPECT_THAT(summary, HasSubstr("## Rate needed for a target STED (bpfv)"));
   EXPECT_THAT(summary, HasSubstr("| dmc/tutte |"));
   EXPECT_THAT(summary, HasSubstr("BD-rate vs dmc/tutte"));

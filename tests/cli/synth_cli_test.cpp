@@ -4,8 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -19,12 +17,8 @@ namespace {
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
 using testing::Quoted;
+using testing::ReadText;
 using testing::RunDmc;
-
-std::string Slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 TEST(SynthCliTest, WritesAPointCacheWithItsMeshAndPrintsJson) {
   const auto dir = FreshTempDir("synth");
@@ -65,8 +59,8 @@ TEST(SynthCliTest, SameSeedWritesTheSameBytesAndAnotherSeedDoesNot) {
   ASSERT_EQ(RunDmc("synth blob -o " + Quoted(dir / "a.pc2") + common + " --seed 9").exit_code, 0);
   ASSERT_EQ(RunDmc("synth blob -o " + Quoted(dir / "b.pc2") + common + " --seed 9").exit_code, 0);
   ASSERT_EQ(RunDmc("synth blob -o " + Quoted(dir / "c.pc2") + common + " --seed 10").exit_code, 0);
-  EXPECT_EQ(Slurp(dir / "a.pc2"), Slurp(dir / "b.pc2"));
-  EXPECT_NE(Slurp(dir / "a.pc2"), Slurp(dir / "c.pc2"));
+  EXPECT_EQ(ReadText(dir / "a.pc2"), ReadText(dir / "b.pc2"));
+  EXPECT_NE(ReadText(dir / "a.pc2"), ReadText(dir / "c.pc2"));
   // Connectivity does not depend on the seed; frame 0's positions in the mesh file do.
   EXPECT_EQ(std::filesystem::file_size(dir / "a.pc2"), std::filesystem::file_size(dir / "c.pc2"));
 }
