@@ -109,11 +109,14 @@ constexpr int kChunksPerSegment = 6;
 }  // namespace
 
 StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return IoError("cannot open " + path.string());
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
-  if (in.bad()) return IoError("cannot read " + path.string());
-  return bytes;
+  return core_internal::GuardAllocation(
+      "reading " + path.string(), [&]() -> StatusOr<std::vector<uint8_t>> {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) return IoError("cannot open " + path.string());
+        std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+        if (in.bad()) return IoError("cannot read " + path.string());
+        return bytes;
+      });
 }
 
 uint64_t DeclaredOutputBytes(const StreamInfo& info) {
@@ -346,9 +349,7 @@ StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOpti
 
 StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,
                                   const DecoderOptions& options) {
-  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
-                       core_internal::GuardAllocation("reading " + path.string(),
-                                                      [&] { return ReadFileBytes(path); }));
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
   return Decode(bytes, options);
 }
 
