@@ -30,6 +30,14 @@ inline constexpr uint32_t kMaxNameLength = 256;
 // Largest |q| of a quantised residual (spec §8.6): a decoder reports corrupt-stream beyond it, so
 // an encoder must never write one.
 inline constexpr int64_t kMaxResidualMagnitude = int64_t{1} << 40;
+// Largest quantisation step (§8.1; also the reference frame's step, §8.4), |q| of a mean value
+// (§8.2) and of a reference frame coordinate (§8.4), and the anchor weight's range (§8.1): the
+// decoder rejects a stream beyond them, so the encoder checks what it writes against the same.
+inline constexpr double kMaxStep = 0x1p64;
+inline constexpr int64_t kMaxMeanMagnitude = int64_t{1} << 52;
+inline constexpr int64_t kMaxReferenceMagnitude = int64_t{1} << 40;
+inline constexpr double kMinAnchorWeight = 0x1p-32;
+inline constexpr double kMaxAnchorWeight = 0x1p32;
 
 // Most binary decisions a range-coded payload of P bytes can hold without overrunning (spec §5.5):
 // every decision narrows the range by at least -log2(1 - 3825/2^24) > 1/3041 bit, so decoding N

@@ -16,7 +16,7 @@ namespace {
 // Steps and weights must be positive and at most 2^64 (anchor weights within [2^-32, 2^32]):
 // every dequantised value (an integer below 2^53 times a step) and every normal-matrix entry then
 // stays finite, so a hostile header cannot smuggle infinities into the solver.
-constexpr double kMaxStep = 18446744073709551616.0;  // 2^64
+using format::kMaxStep;
 
 Status CheckFinitePositive(double value, const char* field) {
   if (!std::isfinite(value) || value <= 0.0 || value > kMaxStep) {
@@ -38,7 +38,7 @@ Status ReadReferenceFrame(std::span<const uint8_t> payload, const MeshTopology& 
   auto contexts = std::make_unique<format::ReferenceFrameContexts>();
   const int v_count = topology.vertex_count;
   format::ReferenceFramePredictor predictor(topology);
-  constexpr int64_t kLimit = int64_t{1} << 40;
+  constexpr int64_t kLimit = format::kMaxReferenceMagnitude;
   for (const int v : predictor.order()) {
     std::array<int64_t, 3> prediction, q;
     const bool from_neighbours = predictor.Predict(v, &prediction);
@@ -181,7 +181,7 @@ StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> paylo
   DMC_RETURN_IF_ERROR(CheckFinitePositive(h.residual_step, "residual step"));
   DMC_RETURN_IF_ERROR(CheckFinitePositive(h.anchor_step, "anchor step"));
   DMC_RETURN_IF_ERROR(CheckFinitePositive(h.anchor_weight, "anchor weight"));
-  if (h.anchor_weight < 0x1p-32 || h.anchor_weight > 0x1p32) {
+  if (h.anchor_weight < format::kMinAnchorWeight || h.anchor_weight > format::kMaxAnchorWeight) {
     return CorruptStreamError("anchor weight must lie in [2^-32, 2^32], got " +
                               std::to_string(h.anchor_weight));
   }
@@ -201,7 +201,7 @@ Status ReadMean(std::span<const uint8_t> payload, SegmentSyntax& syntax) {
       int64_t d;
       DMC_RETURN_IF_ERROR(decoder.DecodeSigned(f == 0 ? contexts.first : contexts.delta, &d));
       q += d;
-      if (q > (int64_t{1} << 52) || q < -(int64_t{1} << 52)) {
+      if (q > format::kMaxMeanMagnitude || q < -format::kMaxMeanMagnitude) {
         return CorruptStreamError("mean trajectory value out of range");
       }
       syntax.mean[3 * f + axis] = static_cast<double>(q) * syntax.header.mean_step;

@@ -146,8 +146,10 @@ std::vector<SegmentCoding> CodeFallbackCandidates(const format::SegmentHeader& d
 }
 
 double ReferenceFrameStep(const Eigen::MatrixXd& frame, double step) {
+  // Coarse enough that every coordinate quantises to at most half the format's bound (exact: a
+  // power-of-two division).
   const double largest = frame.size() == 0 ? 0.0 : frame.cwiseAbs().maxCoeff();
-  return std::max(step, std::ldexp(largest, -39));
+  return std::max(step, largest / static_cast<double>(format::kMaxReferenceMagnitude / 2));
 }
 
 bool FactorsByConstruction(uint8_t operator_id) {

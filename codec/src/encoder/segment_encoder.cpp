@@ -154,7 +154,7 @@ StatusOr<SegmentEncoder::Segment> SegmentEncoder::Prepare(SegmentTrajectories tr
   DMC_RETURN_IF_ERROR(syntax::CheckStep(segment.header.mean_step, "the mean step",
                                         "rescale the input (smaller coordinates)"));
   DMC_RETURN_IF_ERROR(syntax::CheckQuantisedRange(pca.mean, segment.header.mean_step,
-                                                  syntax::kMaxMeanMagnitude,
+                                                  format::kMaxMeanMagnitude,
                                                   "a mean trajectory value", ""));
   SegmentSyntax& syntax = segment.syntax;
   syntax.header = segment.header;

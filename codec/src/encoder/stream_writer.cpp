@@ -23,13 +23,13 @@ Status CheckPlannedSteps(const StreamPlan& plan, const EncoderOptions& options) 
                                  : "rescale the input: with " +
                                        std::to_string(options.residual_bits) + " residual bits, " +
                                        diagonal + " must be at most " +
-                                       Number(std::ldexp(syntax::kMaxStep, options.residual_bits));
+                                       Number(std::ldexp(format::kMaxStep, options.residual_bits));
   DMC_RETURN_IF_ERROR(syntax::CheckStep(plan.residual_step, "the residual step", remedy));
   DMC_RETURN_IF_ERROR(syntax::CheckStep(plan.residual_step * options.anchor_step_ratio,
                                         "the anchor step", "use a smaller anchor step ratio"));
   return syntax::CheckStep(std::ldexp(plan.diagonal, -kMeanStepBits), "the mean step",
                            "rescale the input: " + diagonal + " must be at most " +
-                               Number(std::ldexp(syntax::kMaxStep, kMeanStepBits)));
+                               Number(std::ldexp(format::kMaxStep, kMeanStepBits)));
 }
 
 }  // namespace

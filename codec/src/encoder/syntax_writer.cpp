@@ -30,10 +30,10 @@ std::string ShortNumber(double value) {
 }
 
 Status CheckStep(double step, std::string_view what, std::string_view remedy) {
-  if (std::isfinite(step) && step > 0.0 && step <= kMaxStep) return Status::Ok();
+  if (std::isfinite(step) && step > 0.0 && step <= format::kMaxStep) return Status::Ok();
   return UnsupportedError(std::string(what) + " " + Number(step) +
-                          " is outside the format's range (0, 2^64 = " + Number(kMaxStep) + "]" +
-                          Remedy(remedy));
+                          " is outside the format's range (0, 2^64 = " + Number(format::kMaxStep) +
+                          "]" + Remedy(remedy));
 }
 
 Status CheckQuantisedRange(const Eigen::Ref<const Eigen::MatrixXd>& values, double step,
@@ -71,7 +71,8 @@ Status CheckSegmentHeader(const format::SegmentHeader& h, int vertex_count) {
   DMC_RETURN_IF_ERROR(CheckStep(h.mean_step, "the mean step", kRescale));
   DMC_RETURN_IF_ERROR(CheckStep(h.residual_step, "the residual step", kRescale));
   DMC_RETURN_IF_ERROR(CheckStep(h.anchor_step, "the anchor step", kRescale));
-  if (!(h.anchor_weight >= std::ldexp(1.0, -32) && h.anchor_weight <= std::ldexp(1.0, 32))) {
+  if (!(h.anchor_weight >= format::kMinAnchorWeight &&
+        h.anchor_weight <= format::kMaxAnchorWeight)) {
     return InternalError("anchor weight " + Number(h.anchor_weight) + " is outside [2^-32, 2^32]");
   }
   return Status::Ok();

@@ -20,13 +20,9 @@ namespace dmc::syntax {
 // The bounds the decoder enforces on what an encoder writes (spec §5.3, §8), checked before the
 // values are written: a stream breaking one would be rejected by every decoder, so the encoder
 // refuses it with kUnsupported instead, naming the value (`what`) and `remedy`.
+// The step, mean, reference frame and anchor weight bounds are format::'s (bitstream/format.h).
 //
-// Largest quantisation step (spec §8.1, the same bound for the reference frame's step of §8.4).
-inline constexpr double kMaxStep = 18446744073709551616.0;  // 2^64
-// Largest |q| of a mean trajectory value (§8.2), of a reference frame coordinate (§8.4) and of
-// any value coded with S() (§5.3: m = |q| - 1 < 2^62).
-inline constexpr int64_t kMaxMeanMagnitude = int64_t{1} << 52;
-inline constexpr int64_t kMaxReferenceMagnitude = int64_t{1} << 40;
+// Largest |q| of any value coded with S() (§5.3: m = |q| - 1 < 2^62).
 inline constexpr int64_t kMaxSignedMagnitude = int64_t{1} << 62;
 
 // `value` with six significant digits (%g), for the messages.
@@ -51,7 +47,7 @@ std::vector<uint8_t> WriteSequenceHeader(const format::SequenceHeader& header);
 std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& header);
 
 // Quantises the mean trajectory with header.mean_step; returns the dequantised trajectory. The
-// values must pass CheckQuantisedRange(mean, mean_step, kMaxMeanMagnitude).
+// values must pass CheckQuantisedRange(mean, mean_step, format::kMaxMeanMagnitude).
 std::vector<uint8_t> WriteMean(const Eigen::VectorXd& mean, const format::SegmentHeader& header,
                                Eigen::VectorXd* decoded);
 
@@ -73,7 +69,8 @@ std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
 
 // Quantises a reference frame (V×3) to the grid of `step` and codes it with one-ring mean
 // prediction in BreadthFirstOrder; returns the payload (f64 step + range-coded residuals) and the
-// decoded frame. The frame must pass CheckQuantisedRange(frame, step, kMaxReferenceMagnitude).
+// decoded frame. The frame must pass CheckQuantisedRange(frame, step,
+// format::kMaxReferenceMagnitude).
 std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const MeshTopology& topology,
                                          double step, FramePositionsD* decoded);
 
