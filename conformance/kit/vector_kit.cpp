@@ -15,6 +15,7 @@
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
+#include "decoder/basis_reader.h"
 #include "decoder/connectivity_decoder.h"
 #include "decoder/segment_reconstruction.h"
 #include "decoder/syntax_reader.h"
@@ -281,7 +282,7 @@ StatusOr<ParsedStream> ParseStream(std::span<const uint8_t> stream) {
                                                                   header.frame_count - first_frame,
                                                                   header.vertex_count));
     DMC_RETURN_IF_ERROR(syntax::ReadMean(chunks[base + 1].payload, syntax));
-    DMC_RETURN_IF_ERROR(syntax::ReadBasis(chunks[base + 2].payload, syntax));
+    DMC_RETURN_IF_ERROR(syntax::ReadBasis(chunks[base + 2].payload, syntax, info.version_minor));
     DMC_RETURN_IF_ERROR(syntax::ReadOperator(chunks[base + 3].payload, parsed.topology, syntax));
     DMC_RETURN_IF_ERROR(syntax::ReadAnchors(chunks[base + 4].payload, v_count, syntax));
     DMC_RETURN_IF_ERROR(syntax::ReadResiduals(chunks[base + 5].payload, parsed.topology,

@@ -41,6 +41,7 @@
 #include "dmc/encoder.h"
 #include "dmc/metrics.h"
 #include "dmc/operators.h"
+#include "encoder/basis_writer.h"
 #include "encoder/syntax_writer.h"
 #include "fitting/segment_pca.h"
 

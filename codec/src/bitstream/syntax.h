@@ -88,10 +88,35 @@ struct ResidualContexts {
 
 inline constexpr int kBasisColumnGroups = 16;
 struct BasisContexts {
-  AdaptiveBit second_order[kBasisColumnGroups];
+  AdaptiveBit second_order[kBasisColumnGroups];  // 1.0: the column's predictor
   IntegerContexts first[kBasisColumnGroups];
   IntegerContexts delta[kBasisColumnGroups];
+  // 1.1: the column's bit depth (difference from the previous column's) and predictor.
+  IntegerContexts depth;
+  AdaptiveBit predictor_high[kBasisColumnGroups];
+  AdaptiveBit predictor_low[kBasisColumnGroups][2];
 };
+
+// 1.1 basis syntax (spec §8.3). A column's bit depth lies in [kMinBasisBits, header basis_bits].
+inline constexpr int kMinBasisBits = 2;
+inline constexpr int kBasisPredictors = 4;
+// Context group of a column: its bit depth - kMinBasisBits, at most kBasisColumnGroups - 1.
+int BasisContextGroup(int column, int depth);
+// Prediction of sample f of one axis of a column from its earlier samples s[0..f): mode 0 none,
+// 1 the previous sample, 2 linear extrapolation, 3 half the linear slope.
+inline int64_t PredictBasisSample(int mode, const int64_t* s, int f) {
+  if (f == 0 || mode == 0) return 0;
+  if (f == 1 || mode == 1) return s[f - 1];
+  if (mode == 2) return 2 * s[f - 1] - s[f - 2];
+  return (3 * s[f - 1] - s[f - 2]) >> 1;
+}
+// The predictor mode as two decisions: mode >> 1 (predictor_high[g]), then mode & 1
+// (predictor_low[g][mode >> 1]).
+template <typename CodeBit>
+void EncodeBasisPredictor(BasisContexts& contexts, int g, int mode, CodeBit&& code) {
+  code(contexts.predictor_high[g], mode >> 1);
+  code(contexts.predictor_low[g][mode >> 1], mode & 1);
+}
 
 // Weight residual contexts by the number of still-unknown edges at prediction time (1..4+).
 struct WeightContexts {

@@ -13,6 +13,7 @@
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "core/allocation_guard.h"
+#include "decoder/basis_reader.h"
 #include "decoder/connectivity_decoder.h"
 #include "decoder/segment_reconstruction.h"
 #include "decoder/syntax_reader.h"
@@ -257,7 +258,8 @@ Status Decoder::DecodeSegmentIntoImpl(int index, const FrameDestination& destina
   const MeshTopology& topology = topology_;
   const std::string where = "segment " + std::to_string(index) + " ";
   DMC_RETURN_IF_ERROR(syntax::ReadMean(payload(1), syntax).WithContext(where + "mean"));
-  DMC_RETURN_IF_ERROR(syntax::ReadBasis(payload(2), syntax).WithContext(where + "basis"));
+  DMC_RETURN_IF_ERROR(
+      syntax::ReadBasis(payload(2), syntax, info_.version_minor).WithContext(where + "basis"));
   DMC_RETURN_IF_ERROR(
       syntax::ReadOperator(payload(3), topology, syntax).WithContext(where + "operator"));
   DMC_RETURN_IF_ERROR(

@@ -210,39 +210,6 @@ Status ReadMean(std::span<const uint8_t> payload, SegmentSyntax& syntax) {
   return decoder.CheckNotOverrun("mean chunk");
 }
 
-Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax) {
-  const int frames = static_cast<int>(syntax.header.frame_count);
-  const int rank = static_cast<int>(syntax.header.rank);
-  const int64_t levels = (int64_t{1} << (syntax.header.basis_bits - 1)) - 1;
-  syntax.basis.resize(3 * frames, rank);
-  if (rank == 0) return Status::Ok();
-  RangeDecoder decoder;
-  DMC_RETURN_IF_ERROR(decoder.Init(payload));
-  auto contexts = std::make_unique<format::BasisContexts>();
-  std::vector<int64_t> q(frames);
-  for (int k = 0; k < rank; ++k) {
-    const int g = std::min(k, format::kBasisColumnGroups - 1);
-    const bool second_order = decoder.DecodeBit(contexts->second_order[g]) != 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      for (int f = 0; f < frames; ++f) {
-        int64_t prediction = 0;
-        if (f == 1 || (f >= 2 && !second_order)) prediction = q[f - 1];
-        if (f >= 2 && second_order) prediction = 2 * q[f - 1] - q[f - 2];
-        int64_t d;
-        DMC_RETURN_IF_ERROR(
-            decoder.DecodeSigned(f == 0 ? contexts->first[g] : contexts->delta[g], &d));
-        q[f] = prediction + d;
-        if (q[f] > levels || q[f] < -levels) {
-          return CorruptStreamError("basis vector " + std::to_string(k) + " sample " +
-                                    std::to_string(f) + " exceeds its quantiser range");
-        }
-        syntax.basis(3 * f + axis, k) = static_cast<double>(q[f]) / static_cast<double>(levels);
-      }
-    }
-  }
-  return decoder.CheckNotOverrun("basis chunk");
-}
-
 Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topology,
                     SegmentSyntax& syntax) {
   const auto id = static_cast<OperatorId>(syntax.header.operator_id);

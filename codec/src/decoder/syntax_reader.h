@@ -30,7 +30,7 @@ Status CheckPayloadCapacity(const format::SegmentHeader& header, uint32_t vertex
                             const SegmentPayloadSizes& sizes);
 
 Status ReadMean(std::span<const uint8_t> payload, SegmentSyntax& syntax);
-Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax);
+// ReadBasis: decoder/basis_reader.h.
 Status ReadOperator(std::span<const uint8_t> payload, const MeshTopology& topology,
                     SegmentSyntax& syntax);
 Status ReadAnchors(std::span<const uint8_t> payload, int vertex_count, SegmentSyntax& syntax);

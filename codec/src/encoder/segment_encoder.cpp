@@ -6,11 +6,13 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "decoder/segment_reconstruction.h"
 #include "dmc/operators.h"
 #include "encoder/anchors.h"
+#include "encoder/basis_writer.h"
 #include "encoder/codec_operators.h"
 #include "encoder/operator_choice.h"
 #include "encoder/stream_writer.h"
@@ -34,6 +36,20 @@ constexpr double kRankStedElasticity = 0.8;
 }  // namespace
 
 // One segment's state between its PCA and its chunks.
+namespace {
+
+// The stream is written in format version kVersionMinor: the basis in its syntax (spec §8.3).
+bool BasisV11() { return format::kVersionMinor >= 1; }
+
+// The basis chunk of syntax.header's rank: in the 1.1 syntax with `depths`, else 1.0's.
+std::vector<uint8_t> CodeBasis(const Eigen::MatrixXd& basis, const std::vector<uint8_t>& depths,
+                               SegmentSyntax& syntax) {
+  if (BasisV11()) return syntax::WriteBasis(basis, syntax.header, depths, &syntax.basis);
+  return syntax::WriteBasis(basis, syntax.header, &syntax.basis);
+}
+
+}  // namespace
+
 struct SegmentEncoder::Segment {
   int vertex_count = 0;
   format::SegmentHeader header;  // everything but the rank (and the operator the choice makes)
@@ -43,7 +59,8 @@ struct SegmentEncoder::Segment {
   SegmentSyntax syntax;        // decoded mean, basis and anchors of the rank being coded
   std::vector<uint8_t> mean_payload;
   std::vector<uint8_t> top_basis_payload;
-  Eigen::MatrixXd top_basis;     // the top rank's decoded basis
+  std::vector<uint8_t> basis_depths;  // 1.1: the top rank's per-column bit depths
+  Eigen::MatrixXd top_basis;          // the top rank's decoded basis
   Eigen::MatrixXd eigenvectors;  // the top rank's principal directions, for the lower ranks' bases
   Eigen::MatrixXd projected;     // V × rank, kept while a rank is still to be coded
   std::unique_ptr<MeasuredFrames> measured;  // the fallback's measurement frames
@@ -160,8 +177,13 @@ StatusOr<SegmentEncoder::Segment> SegmentEncoder::Prepare(SegmentTrajectories tr
   syntax.header = segment.header;
   syntax.header.rank = static_cast<uint32_t>(top_rank);
   segment.mean_payload = syntax::WriteMean(pca.mean, segment.header, &syntax.mean);
+  if (BasisV11()) {
+    segment.basis_depths = syntax::ChooseBasisDepths(
+        std::span<const double>(pca.eigenvalues.data(), pca.eigenvalues.size()), top_rank,
+        segment.vertex_count, residual_step_, segment.header.basis_bits);
+  }
   segment.top_basis_payload =
-      syntax::WriteBasis(pca.eigenvectors.leftCols(top_rank), syntax.header, &syntax.basis);
+      CodeBasis(pca.eigenvectors.leftCols(top_rank), segment.basis_depths, syntax);
   if (segment.ranks.size() > 1) segment.eigenvectors = pca.eigenvectors.leftCols(top_rank);
   pca = SegmentPca();  // its 3F × 3F eigenvectors
   if (top_rank > 0) {
@@ -220,7 +242,7 @@ StatusOr<SegmentEncoder::RankCoding> SegmentEncoder::CodeAtRank(Segment& segment
     syntax.basis = segment.top_basis;
   } else {
     coding.basis_payload =
-        syntax::WriteBasis(segment.eigenvectors.leftCols(rank), syntax.header, &syntax.basis);
+        CodeBasis(segment.eigenvectors.leftCols(rank), segment.basis_depths, syntax);
   }
   Eigen::MatrixXd coefficients = SolveCoefficients(segment, rank, next_rank);
   // Anchors before the operator: the DDL trials reconstruct with them.

@@ -145,48 +145,6 @@ std::vector<uint8_t> WriteMean(const Eigen::VectorXd& mean, const format::Segmen
   return encoder.Finish();
 }
 
-std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::SegmentHeader& header,
-                                Eigen::MatrixXd* decoded) {
-  const int frames = static_cast<int>(header.frame_count);
-  const int rank = static_cast<int>(header.rank);
-  const int64_t levels = (int64_t{1} << (header.basis_bits - 1)) - 1;
-  decoded->resize(3 * frames, rank);
-  if (rank == 0) return {};
-  RangeEncoder encoder;
-  auto contexts = std::make_unique<format::BasisContexts>();
-  std::vector<int64_t> q(frames);
-  for (int k = 0; k < rank; ++k) {
-    const int g = std::min(k, format::kBasisColumnGroups - 1);
-    // Quantise all samples, then pick the predictor with the smaller total |residual|.
-    std::vector<std::vector<int64_t>> samples(3, std::vector<int64_t>(frames));
-    int64_t cost_first = 0, cost_second = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      for (int f = 0; f < frames; ++f) {
-        const double value = std::clamp(basis(3 * f + axis, k), -1.0, 1.0);
-        samples[axis][f] = std::llround(value * static_cast<double>(levels));
-      }
-      for (int f = 2; f < frames; ++f) {
-        const auto& s = samples[axis];
-        cost_first += std::llabs(s[f] - s[f - 1]);
-        cost_second += std::llabs(s[f] - 2 * s[f - 1] + s[f - 2]);
-      }
-    }
-    const bool second_order = cost_second < cost_first;
-    encoder.EncodeBit(contexts->second_order[g], second_order ? 1 : 0);
-    for (int axis = 0; axis < 3; ++axis) {
-      const auto& s = samples[axis];
-      for (int f = 0; f < frames; ++f) {
-        int64_t prediction = 0;
-        if (f == 1 || (f >= 2 && !second_order)) prediction = s[f - 1];
-        if (f >= 2 && second_order) prediction = 2 * s[f - 1] - s[f - 2];
-        encoder.EncodeSigned(f == 0 ? contexts->first[g] : contexts->delta[g], s[f] - prediction);
-        (*decoded)(3 * f + axis, k) = static_cast<double>(s[f]) / static_cast<double>(levels);
-      }
-    }
-  }
-  return encoder.Finish();
-}
-
 std::vector<uint8_t> WriteDdlWeights(const std::vector<double>& edge_weights,
                                      const MeshTopology& topology, int weight_bits,
                                      format::WeightPrediction prediction_mode,

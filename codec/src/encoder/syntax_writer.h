@@ -51,11 +51,7 @@ std::vector<uint8_t> WriteSegmentHeader(const format::SegmentHeader& header);
 std::vector<uint8_t> WriteMean(const Eigen::VectorXd& mean, const format::SegmentHeader& header,
                                Eigen::VectorXd* decoded);
 
-// Quantises basis columns (entries in [-1, 1]) to 2^(bits-1)-1 levels and codes them with a
-// per-column first- or second-order temporal prediction (whichever is cheaper); returns the
-// dequantised basis.
-std::vector<uint8_t> WriteBasis(const Eigen::MatrixXd& basis, const format::SegmentHeader& header,
-                                Eigen::MatrixXd* decoded);
+// The basis chunk's writers: encoder/basis_writer.h.
 
 // Quantises DDL edge weights along the shared weight schedule: explicit weights are rounded to
 // units of 2^-weight_bits, the last weight of each visit is implied by the unit sum. A weight

@@ -12,6 +12,7 @@
 #include "decoder/segment_reconstruction.h"
 #include "dmc/synth.h"
 #include "dmc/topology.h"
+#include "encoder/basis_writer.h"
 #include "encoder/operator_choice.h"
 #include "encoder/syntax_writer.h"
 #include "fitting/segment_pca.h"
