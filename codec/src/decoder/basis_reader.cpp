@@ -90,8 +90,14 @@ Status ReadBasis(std::span<const uint8_t> payload, SegmentSyntax& syntax, int mi
   if (rank == 0) return Status::Ok();
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(payload));
-  DMC_RETURN_IF_ERROR(minor_version >= 1 ? ReadBasis11(decoder, syntax)
-                                         : ReadBasis10(decoder, syntax));
+  if (minor_version >= 1) {
+    // A payload that ran out reads as zeros: report the truncation, not the values it garbled.
+    const Status status = ReadBasis11(decoder, syntax);
+    if (!status.ok() && decoder.overrun()) return decoder.CheckNotOverrun("basis chunk");
+    DMC_RETURN_IF_ERROR(status);
+  } else {
+    DMC_RETURN_IF_ERROR(ReadBasis10(decoder, syntax));
+  }
   return decoder.CheckNotOverrun("basis chunk");
 }
 
