@@ -89,16 +89,18 @@ StatusOr<Triangles> DecodeDracoReordered(std::span<const uint8_t> payload, uint3
 }
 
 StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
-                                               uint32_t vertex_count, uint32_t triangle_count) {
+                                               uint32_t vertex_count, uint32_t triangle_count,
+                                               uint8_t version_minor) {
   const std::span<const uint8_t> body = payload.subspan(1);
   ByteReader reader(body);
   DMC_ASSIGN_OR_RETURN(const std::span<const uint8_t> draco_buffer, ReadDracoBuffer(reader));
   uint8_t model_value;
   DMC_RETURN_IF_ERROR(reader.GetU8(&model_value, "vertex label model"));
-  if (model_value >= kLabelModelCount) {
-    return CorruptStreamError("vertex label model " + ToString(model_value) + " is unknown");
+  if (model_value >= LabelModelCount(version_minor)) {
+    return CorruptStreamError("vertex label model " + ToString(model_value) + " is unknown" +
+                              (model_value < kLabelModelCount11 ? " in format 1.0" : ""));
   }
-  const LabelModel model = {static_cast<LabelPredictor>(model_value & 1), (model_value & 2) != 0};
+  const LabelModel model = LabelModel::FromWire(model_value);
   DMC_ASSIGN_OR_RETURN(Triangles draco_triangles,
                        DecodeDracoTriangles(draco_buffer, vertex_count, triangle_count));
 
@@ -107,27 +109,60 @@ StatusOr<Triangles> DecodeDracoWithVertexOrder(std::span<const uint8_t> payload,
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(body.subspan(reader.position())));
   std::array<IntegerContexts, kLabelContextCount> contexts;
+  std::array<AdaptiveBit, kKernelEscapeContexts> escape_contexts;
   UnusedLabels unused(v_count);
   std::vector<int32_t> labels(v_count, -1);
+  std::vector<uint8_t> used(model.kernel_code != 0 ? v_count : 0, 0);
+  LabelKernel kernel(kKernelRadii[model.kernel_code], model.kernel_code != 0 ? v_count : 0);
   int32_t previous_label = -1;
   std::vector<int64_t> scratch;
+  std::vector<int32_t> neighbors, centers;
   for (const int32_t v : LabelCodingOrder(adjacency)) {
-    const LabelPrediction prediction =
-        PredictLabel(adjacency, labels, v, model.predictor, previous_label, scratch);
-    int64_t rank_difference;
-    DMC_RETURN_IF_ERROR(decoder.DecodeSigned(
-        contexts[LabelContext(prediction, unused, model.spread_contexts)], &rank_difference));
-    if (decoder.overrun()) break;  // reported below as truncation, not as a bad rank
-    const int64_t rank = unused.Rank(prediction.label) + rank_difference;
-    if (rank < 0 || rank >= unused.remaining()) {
-      return CorruptStreamError("vertex label rank " + ToString(rank) + " of Draco point " +
-                                ToString(v) + " is outside [0, " + ToString(unused.remaining()) +
-                                ")");
+    int32_t label = -1;
+    if (model.kernel_code != 0) {
+      KernelCenters(adjacency, labels, v, neighbors, centers);
+      if (!centers.empty()) {
+        kernel.Build(centers, used);
+        const auto candidate_count = static_cast<int32_t>(kernel.candidates().size());
+        const size_t escape_context = std::min(centers.size(), size_t{kKernelEscapeContexts}) - 1;
+        if (candidate_count > 0 && decoder.DecodeBit(escape_contexts[escape_context]) == 0) {
+          int32_t lo = 0, hi = candidate_count;
+          while (hi - lo > 1) {
+            AdaptiveBit split;  // a fixed probability: the model is never reused
+            split.fast = split.slow = static_cast<uint16_t>(kernel.SplitP0(lo, hi));
+            if (decoder.DecodeBit(split) == 0) {
+              hi = lo + (hi - lo) / 2;
+            } else {
+              lo = lo + (hi - lo) / 2;
+            }
+          }
+          if (decoder.overrun()) break;  // reported below as truncation
+          label = kernel.candidates()[static_cast<size_t>(lo)];
+        }
+      }
     }
-    const int32_t label = unused.Select(static_cast<int32_t>(rank));
+    if (label < 0) {
+      const LabelPrediction prediction =
+          PredictLabel(adjacency, labels, v, model.predictor, previous_label, scratch);
+      int64_t rank_difference;
+      DMC_RETURN_IF_ERROR(decoder.DecodeSigned(
+          contexts[LabelContext(prediction, unused, model.spread_contexts)], &rank_difference));
+      if (decoder.overrun()) break;  // reported below as truncation, not as a bad rank
+      const int64_t rank = unused.Rank(prediction.label) + rank_difference;
+      if (rank < 0 || rank >= unused.remaining()) {
+        return CorruptStreamError("vertex label rank " + ToString(rank) + " of Draco point " +
+                                  ToString(v) + " is outside [0, " + ToString(unused.remaining()) +
+                                  ")");
+      }
+      label = unused.Select(static_cast<int32_t>(rank));
+    }
     unused.Remove(label);
     labels[v] = label;
     previous_label = label;
+    if (model.kernel_code != 0) {
+      used[static_cast<size_t>(label)] = 1;
+      if (!centers.empty()) kernel.Update(centers, label);
+    }
   }
   DMC_RETURN_IF_ERROR(decoder.CheckNotOverrun("connectivity vertex labels"));
 
@@ -290,6 +325,78 @@ int LabelContext(const LabelPrediction& prediction, const UnusedLabels& unused,
   return base + std::min(spread_bits / 2, kSpreadBuckets - 1);
 }
 
+int LabelModelCount(uint8_t version_minor) {
+  return version_minor >= 1 ? kLabelModelCount11 : kLabelModelCount;
+}
+
+void KernelCenters(const TriangleAdjacency& adjacency, std::span<const int32_t> labels, int32_t v,
+                   std::vector<int32_t>& neighbors, std::vector<int32_t>& out) {
+  out.clear();
+  adjacency.Neighbors(v, neighbors);
+  for (const int32_t u : neighbors) {
+    if (labels[u] < 0) continue;
+    out.push_back(labels[u]);
+    if (out.size() == kMaxKernelCenters) break;
+  }
+}
+
+LabelKernel::LabelKernel(int32_t radius, int32_t label_count)
+    : radius_(radius),
+      bins_(static_cast<size_t>(2 * radius + 1), 1),
+      total_(static_cast<uint64_t>(2 * radius + 1)),
+      weight_(static_cast<size_t>(label_count), 0) {}
+
+void LabelKernel::Build(std::span<const int32_t> centers, std::span<const uint8_t> used) {
+  candidates_.clear();
+  const auto label_count = static_cast<int32_t>(weight_.size());
+  for (const int32_t center : centers) {
+    const int32_t first = std::max(center - radius_, 0);
+    const int32_t last = std::min(center + radius_, label_count - 1);
+    for (int32_t label = first; label <= last; ++label) {
+      if (used[static_cast<size_t>(label)]) continue;
+      uint64_t& weight = weight_[static_cast<size_t>(label)];
+      if (weight == 0) candidates_.push_back(label);
+      weight += bins_[static_cast<size_t>(label - center + radius_)];
+    }
+  }
+  std::sort(candidates_.begin(), candidates_.end());
+  prefix_.assign(candidates_.size() + 1, 0);
+  for (size_t i = 0; i < candidates_.size(); ++i) {
+    uint64_t& weight = weight_[static_cast<size_t>(candidates_[i])];
+    prefix_[i + 1] = prefix_[i] + weight;
+    weight = 0;
+  }
+}
+
+int32_t LabelKernel::Find(int32_t label) const {
+  const auto it = std::lower_bound(candidates_.begin(), candidates_.end(), label);
+  if (it == candidates_.end() || *it != label) return -1;
+  return static_cast<int32_t>(it - candidates_.begin());
+}
+
+uint32_t LabelKernel::SplitP0(int32_t lo, int32_t hi) const {
+  const int32_t mid = lo + (hi - lo) / 2;
+  const uint64_t left = prefix_[static_cast<size_t>(mid)] - prefix_[static_cast<size_t>(lo)];
+  const uint64_t all = prefix_[static_cast<size_t>(hi)] - prefix_[static_cast<size_t>(lo)];
+  return static_cast<uint32_t>(std::clamp<uint64_t>((left << 16) / all, 15, 65521));
+}
+
+void LabelKernel::Update(std::span<const int32_t> centers, int32_t label) {
+  for (const int32_t center : centers) {
+    const int64_t difference = int64_t{label} - center;
+    if (difference < -radius_ || difference > radius_) continue;
+    bins_[static_cast<size_t>(difference + radius_)] += kKernelIncrement;
+    total_ += kKernelIncrement;
+  }
+  if (total_ > kKernelHalvingTotal) {
+    total_ = 0;
+    for (uint64_t& bin : bins_) {
+      bin = (bin + 1) >> 1;
+      total_ += bin;
+    }
+  }
+}
+
 UnusedLabels::UnusedLabels(int32_t label_count)
     : tree_(static_cast<size_t>(label_count) + 1, 0), remaining_(label_count) {
   // Linear-time construction of the tree of all-one flags.
@@ -404,13 +511,14 @@ StatusOr<Triangles> DecodeDracoTriangles(std::span<const uint8_t> draco_buffer,
 }  // namespace connectivity
 
 StatusOr<Triangles> DecodeConnectivity(std::span<const uint8_t> payload, uint32_t vertex_count,
-                                       uint32_t triangle_count) {
+                                       uint32_t triangle_count, uint8_t version_minor) {
   if (payload.empty()) return TruncatedStreamError("connectivity payload is empty");
   switch (payload[0]) {
     case static_cast<uint8_t>(ConnectivityCoding::kIndexed):
       return connectivity::DecodeIndexed(payload, vertex_count, triangle_count);
     case static_cast<uint8_t>(ConnectivityCoding::kDracoWithVertexOrder):
-      return connectivity::DecodeDracoWithVertexOrder(payload, vertex_count, triangle_count);
+      return connectivity::DecodeDracoWithVertexOrder(payload, vertex_count, triangle_count,
+                                                      version_minor);
     case static_cast<uint8_t>(ConnectivityCoding::kDracoReordered):
       return connectivity::DecodeDracoReordered(payload, vertex_count, triangle_count);
     default:

@@ -22,8 +22,16 @@
 //   r = #{unused labels < label[v]} - #{unused labels < y},
 // with one adaptive IntegerContexts set per LabelContext. Coding ranks rather than label
 // differences never spends code space on labels that are already taken.
+//
+// Format 1.1 adds label kernels (LabelModel::kernel_radius > 0): a vertex with decoded
+// neighbours first codes whether its label is a kernel candidate, an unused label within the
+// kernel radius of a decoded neighbour's label (LabelKernel). Candidates are weighted by an
+// adaptive histogram of the label differences seen between neighbours, and a hit is coded by
+// binary splits of the candidate list with those weights; a miss (an escape) falls back to the
+// rank difference above.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -42,8 +50,9 @@ using ConnectivityCoding = ConnectivityMethod;
 // kCorruptStream (kTruncatedStream when the payload ends early) naming the element at fault, and
 // Draco failures are reported as kCorruptStream with Draco's message. The result always has
 // exactly `triangle_count` triangles with indices in [0, vertex_count).
+// `version_minor` is the stream's minor format version: label kernels need 1.1.
 StatusOr<Triangles> DecodeConnectivity(std::span<const uint8_t> payload, uint32_t vertex_count,
-                                       uint32_t triangle_count);
+                                       uint32_t triangle_count, uint8_t version_minor = 0);
 
 namespace connectivity {
 
@@ -60,19 +69,69 @@ inline constexpr int kLabelPredictorCount = 2;
 inline constexpr size_t kMaxParallelogramScan = 64;
 
 // How a method-1 payload codes labels. Wire byte: bit 0 the predictor, bit 1 spread_contexts,
-// the other bits 0. Which model is smallest depends on how the input was labelled (measured:
-// kNeighborMedian wins on samba, crane, horse, chicken; kParallelogram on dance and cow; spread
-// contexts gain 3-10% on horse, jump and elephant and lose up to 2% elsewhere), so the encoder
-// tries them all.
+// bits 2-3 the kernel radius code (format 1.1 only; 0 in 1.0), the other bits 0. Which model is
+// smallest depends on how the input was labelled (measured: kNeighborMedian wins on samba, crane,
+// horse, chicken; kParallelogram on dance and cow; spread contexts gain 3-10% on horse, jump and
+// elephant and lose up to 2% elsewhere), so the encoder tries them all.
 struct LabelModel {
   LabelPredictor predictor = LabelPredictor::kNeighborMedian;
   bool spread_contexts = false;  // split contexts by the spread of the neighbours' labels
+  uint8_t kernel_code = 0;       // 0: no kernel; 1, 2, 3: kernel radius kKernelRadii[code]
 
   uint8_t wire() const {
-    return static_cast<uint8_t>(static_cast<uint8_t>(predictor) | (spread_contexts ? 2 : 0));
+    return static_cast<uint8_t>(static_cast<uint8_t>(predictor) | (spread_contexts ? 2 : 0) |
+                                (kernel_code << 2));
+  }
+  static LabelModel FromWire(uint8_t wire) {
+    return {static_cast<LabelPredictor>(wire & 1), (wire & 2) != 0,
+            static_cast<uint8_t>((wire >> 2) & 3)};
   }
 };
+// Label model wire values a stream may use: below kLabelModelCount in 1.0, below
+// kLabelModelCount11 from 1.1 on.
 inline constexpr int kLabelModelCount = 2 * kLabelPredictorCount;
+inline constexpr int kLabelModelCount11 = 4 * kLabelModelCount;
+int LabelModelCount(uint8_t version_minor);
+
+// Kernel radii by kernel code (code 0: no kernel). Which one wins depends on how far apart the
+// input labels of neighbours are (measured: 16 on dance, cow and jump, 256 on the Vlasic meshes).
+inline constexpr std::array<int32_t, 4> kKernelRadii = {0, 16, 64, 256};
+// At most this many decoded neighbours (the first in ascending point order) are kernel centres.
+inline constexpr size_t kMaxKernelCenters = 16;
+// Histogram: every bin starts at 1 and gains kKernelIncrement per observed difference; when the
+// bins sum to more than kKernelHalvingTotal they are all halved (rounding up).
+inline constexpr uint32_t kKernelIncrement = 8;
+inline constexpr uint64_t kKernelHalvingTotal = uint64_t{1} << 24;
+// Escape flag contexts, by min(number of centres, kKernelEscapeContexts).
+inline constexpr int kKernelEscapeContexts = 4;
+
+// The kernel model of a payload: the adaptive histogram of label differences and, for the
+// vertex being coded, its weighted candidate labels. Encoder and decoder use it identically.
+class LabelKernel {
+ public:
+  LabelKernel(int32_t radius, int32_t label_count);
+
+  // The candidates for these centre labels (decoded neighbour labels): every label not yet used
+  // (used[label] == 0) within the radius of a centre, ascending, each weighted by the sum over
+  // centres c within the radius of bin[label - c].
+  void Build(std::span<const int32_t> centers, std::span<const uint8_t> used);
+  const std::vector<int32_t>& candidates() const { return candidates_; }
+  // Index of `label` among the candidates, or -1.
+  int32_t Find(int32_t label) const;
+  // P(bit = 0) of the split of candidates [lo, hi) at mid = (lo + hi) / 2, in units of 2^-16,
+  // clamped to [15, 65521]; bit 0 means the label is in [lo, mid).
+  uint32_t SplitP0(int32_t lo, int32_t hi) const;
+  // Adds the differences label - c of the centres within the radius to the histogram.
+  void Update(std::span<const int32_t> centers, int32_t label);
+
+ private:
+  int32_t radius_;
+  std::vector<uint64_t> bins_;    // size 2 * radius + 1; bin d + radius counts difference d
+  uint64_t total_ = 0;            // sum of bins_
+  std::vector<uint64_t> weight_;  // per label, scratch (zero outside Build's candidates)
+  std::vector<int32_t> candidates_;
+  std::vector<uint64_t> prefix_;  // prefix_[i] = sum of the first i candidates' weights
+};
 
 // Kinds of prediction; each has its own adaptive contexts.
 enum class PredictionKind : uint8_t {
@@ -151,6 +210,11 @@ inline constexpr int kSpreadBuckets = 6;
 inline constexpr int kLabelContextCount = kPredictionKindCount * kSpreadBuckets;
 int LabelContext(const LabelPrediction& prediction, const UnusedLabels& unused,
                  bool spread_contexts);
+
+// The kernel centres of v: the labels of its first kMaxKernelCenters decoded neighbours in
+// ascending point order (`neighbors` is scratch), written to `out` (cleared first).
+void KernelCenters(const TriangleAdjacency& adjacency, std::span<const int32_t> labels, int32_t v,
+                   std::vector<int32_t>& neighbors, std::vector<int32_t>& out);
 
 // Decodes the Draco buffer of a method-1/2 payload into its faces over Draco's points, after
 // checking the Draco header and its counts against the expected ones. When `point_values` is not

@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "bitstream/format.h"
 #include "encoder/range_encoder.h"
 #include "entropy/byte_io.h"
 
@@ -189,20 +190,59 @@ std::vector<uint8_t> EncodeLabels(const connectivity::TriangleAdjacency& adjacen
                                   connectivity::LabelModel model) {
   RangeEncoder encoder;
   std::array<IntegerContexts, connectivity::kLabelContextCount> contexts;
-  connectivity::UnusedLabels unused(adjacency.vertex_count());
-  std::vector<int32_t> labels(adjacency.vertex_count(), -1);
+  std::array<AdaptiveBit, connectivity::kKernelEscapeContexts> escape_contexts;
+  const int32_t v_count = adjacency.vertex_count();
+  connectivity::UnusedLabels unused(v_count);
+  std::vector<int32_t> labels(v_count, -1);
+  const bool use_kernel = model.kernel_code != 0;
+  std::vector<uint8_t> used(use_kernel ? v_count : 0, 0);
+  connectivity::LabelKernel kernel(connectivity::kKernelRadii[model.kernel_code],
+                                   use_kernel ? v_count : 0);
   int32_t previous_label = -1;
   std::vector<int64_t> scratch;
+  std::vector<int32_t> neighbors, centers;
   for (const int32_t v : order) {
-    const connectivity::LabelPrediction prediction =
-        connectivity::PredictLabel(adjacency, labels, v, model.predictor, previous_label, scratch);
     const int32_t label = input_vertex[v];
-    encoder.EncodeSigned(
-        contexts[connectivity::LabelContext(prediction, unused, model.spread_contexts)],
-        int64_t{unused.Rank(label)} - unused.Rank(prediction.label));
+    bool coded = false;
+    if (use_kernel) {
+      connectivity::KernelCenters(adjacency, labels, v, neighbors, centers);
+      if (!centers.empty()) {
+        kernel.Build(centers, used);
+        const auto candidate_count = static_cast<int32_t>(kernel.candidates().size());
+        if (candidate_count > 0) {
+          const int32_t index = kernel.Find(label);
+          const size_t escape_context =
+              std::min(centers.size(), size_t{connectivity::kKernelEscapeContexts}) - 1;
+          encoder.EncodeBit(escape_contexts[escape_context], index < 0 ? 1 : 0);
+          if (index >= 0) {
+            int32_t lo = 0, hi = candidate_count;
+            while (hi - lo > 1) {
+              const int32_t mid = lo + (hi - lo) / 2;
+              AdaptiveBit split;  // a fixed probability: the model is never reused
+              split.fast = split.slow = static_cast<uint16_t>(kernel.SplitP0(lo, hi));
+              const int bit = index >= mid ? 1 : 0;
+              encoder.EncodeBit(split, bit);
+              (bit == 0 ? hi : lo) = mid;
+            }
+            coded = true;
+          }
+        }
+      }
+    }
+    if (!coded) {
+      const connectivity::LabelPrediction prediction = connectivity::PredictLabel(
+          adjacency, labels, v, model.predictor, previous_label, scratch);
+      encoder.EncodeSigned(
+          contexts[connectivity::LabelContext(prediction, unused, model.spread_contexts)],
+          int64_t{unused.Rank(label)} - unused.Rank(prediction.label));
+    }
     unused.Remove(label);
     labels[v] = label;
     previous_label = label;
+    if (use_kernel) {
+      used[static_cast<size_t>(label)] = 1;
+      if (!centers.empty()) kernel.Update(centers, label);
+    }
   }
   return encoder.Finish();
 }
@@ -212,19 +252,31 @@ void AppendDracoBuffer(ByteWriter& writer, const std::vector<uint8_t>& buffer) {
   writer.PutBytes(buffer);
 }
 
-ConnectivityCode EncodeDracoWithVertexOrder(const DracoCoding& draco) {
+ConnectivityCode EncodeDracoWithVertexOrder(const DracoCoding& draco, uint8_t version_minor) {
   const connectivity::TriangleAdjacency adjacency(draco.decoded,
                                                   static_cast<int32_t>(draco.input_vertex.size()));
   const std::vector<int32_t> order = connectivity::LabelCodingOrder(adjacency);
-  // Which model wins depends on how the input was labelled: try each, keep the smallest.
+  // Which model wins depends on how the input was labelled: try each 1.0 model, then (1.1) each
+  // kernel radius with the best 1.0 model's predictor and contexts (they code only the escapes),
+  // and keep the smallest.
   std::vector<uint8_t> best_labels;
   connectivity::LabelModel best_model;
-  for (int wire = 0; wire < connectivity::kLabelModelCount; ++wire) {
-    const connectivity::LabelModel model = {static_cast<LabelPredictor>(wire & 1), (wire & 2) != 0};
+  auto try_model = [&](const connectivity::LabelModel& model) {
     std::vector<uint8_t> coded = EncodeLabels(adjacency, order, draco.input_vertex, model);
     if (best_labels.empty() || coded.size() < best_labels.size()) {
       best_labels = std::move(coded);
       best_model = model;
+    }
+  };
+  for (int wire = 0; wire < connectivity::kLabelModelCount; ++wire) {
+    try_model(connectivity::LabelModel::FromWire(static_cast<uint8_t>(wire)));
+  }
+  if (connectivity::LabelModelCount(version_minor) > connectivity::kLabelModelCount) {
+    const connectivity::LabelModel base = best_model;
+    for (uint8_t code = 1; code < connectivity::kKernelRadii.size(); ++code) {
+      connectivity::LabelModel model = base;
+      model.kernel_code = code;
+      try_model(model);
     }
   }
   ByteWriter writer;
@@ -249,9 +301,11 @@ ConnectivityCode EncodeDracoReordered(const DracoCoding& draco) {
 
 // Closed loop: decodes the payload as a decoder will, stores the result and checks that it is the
 // input (through vertex_order when reordered). A failure here is a bug in this coder.
-Status FinishByDecoding(const Triangles& input, int vertex_count, ConnectivityCode& code) {
-  StatusOr<Triangles> decoded = DecodeConnectivity(
-      code.payload, static_cast<uint32_t>(vertex_count), static_cast<uint32_t>(input.rows()));
+Status FinishByDecoding(const Triangles& input, int vertex_count, uint8_t version_minor,
+                        ConnectivityCode& code) {
+  StatusOr<Triangles> decoded =
+      DecodeConnectivity(code.payload, static_cast<uint32_t>(vertex_count),
+                         static_cast<uint32_t>(input.rows()), version_minor);
   if (!decoded.ok()) {
     return InternalError("connectivity payload does not decode: " + decoded.status().ToString());
   }
@@ -268,8 +322,8 @@ Status FinishByDecoding(const Triangles& input, int vertex_count, ConnectivityCo
 }  // namespace
 
 StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(const Triangles& triangles,
-                                                        int vertex_count,
-                                                        ConnectivityCoding method) {
+                                                        int vertex_count, ConnectivityCoding method,
+                                                        uint8_t version_minor) {
   DMC_RETURN_IF_ERROR(CheckTriangles(triangles, vertex_count));
   ConnectivityCode code;
   switch (method) {
@@ -278,7 +332,7 @@ StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(const Triangles& triangl
       break;
     case ConnectivityCoding::kDracoWithVertexOrder: {
       DMC_ASSIGN_OR_RETURN(const DracoCoding draco, EncodeDraco(triangles, vertex_count));
-      code = EncodeDracoWithVertexOrder(draco);
+      code = EncodeDracoWithVertexOrder(draco, version_minor);
       break;
     }
     case ConnectivityCoding::kDracoReordered: {
@@ -290,25 +344,25 @@ StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(const Triangles& triangl
       return InvalidArgumentError("connectivity method " +
                                   std::to_string(static_cast<int>(method)) + " is unknown");
   }
-  DMC_RETURN_IF_ERROR(FinishByDecoding(triangles, vertex_count, code));
+  DMC_RETURN_IF_ERROR(FinishByDecoding(triangles, vertex_count, version_minor, code));
   return code;
 }
 
 StatusOr<ConnectivityCode> EncodeConnectivity(const Triangles& triangles, int vertex_count,
-                                              bool allow_reorder) {
+                                              bool allow_reorder, uint8_t version_minor) {
   DMC_RETURN_IF_ERROR(CheckTriangles(triangles, vertex_count));
   ConnectivityCode best;
   best.payload = EncodeIndexed(triangles);
   StatusOr<DracoCoding> draco = EncodeDraco(triangles, vertex_count);
   if (draco.ok()) {
     // kDracoReordered is kDracoWithVertexOrder without the labels, so it is always smaller.
-    ConnectivityCode candidate =
-        allow_reorder ? EncodeDracoReordered(*draco) : EncodeDracoWithVertexOrder(*draco);
+    ConnectivityCode candidate = allow_reorder ? EncodeDracoReordered(*draco)
+                                               : EncodeDracoWithVertexOrder(*draco, version_minor);
     if (candidate.payload.size() < best.payload.size()) best = std::move(candidate);
   } else if (draco.status().code() != ErrorCode::kUnsupported) {
     return draco.status();
   }
-  DMC_RETURN_IF_ERROR(FinishByDecoding(triangles, vertex_count, best));
+  DMC_RETURN_IF_ERROR(FinishByDecoding(triangles, vertex_count, version_minor, best));
   return best;
 }
 

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bitstream/format.h"
 #include "decoder/connectivity_decoder.h"
 #include "dmc/sequence.h"
 #include "dmc/status.h"
@@ -35,13 +36,16 @@ struct ConnectivityCode {
 // Codes `triangles` (indices in [0, vertex_count)) with the smallest method that reproduces them:
 // kIndexed or kDracoWithVertexOrder, and also kDracoReordered when `allow_reorder`.
 // Fails with kInvalidArgument on an index outside [0, vertex_count) or a negative vertex count.
+// `version_minor` is the minor format version of the stream the payload goes into (the label
+// kernels of kDracoWithVertexOrder need 1.1).
 StatusOr<ConnectivityCode> EncodeConnectivity(const Triangles& triangles, int vertex_count,
-                                              bool allow_reorder);
+                                              bool allow_reorder,
+                                              uint8_t version_minor = format::kVersionMinor);
 
 // Codes with the given method only (tests, benchmarks, measurements). Fails with kUnsupported
 // when a Draco method cannot reproduce the triangle set exactly.
-StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(const Triangles& triangles,
-                                                        int vertex_count,
-                                                        ConnectivityCoding method);
+StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(
+    const Triangles& triangles, int vertex_count, ConnectivityCoding method,
+    uint8_t version_minor = format::kVersionMinor);
 
 }  // namespace dmc
