@@ -269,8 +269,9 @@ StatusOr<ParsedStream> ParseStream(std::span<const uint8_t> stream) {
   const std::vector<Chunk>& chunks = parsed.framed.chunks;
   DMC_ASSIGN_OR_RETURN(parsed.header, syntax::ReadSequenceHeader(chunks[0].payload));
   const format::SequenceHeader& header = parsed.header;
+  const auto version_minor = static_cast<uint8_t>(info.version_minor);
   DMC_ASSIGN_OR_RETURN(parsed.triangles, DecodeConnectivity(chunks[1].payload, header.vertex_count,
-                                                            header.triangle_count));
+                                                            header.triangle_count, version_minor));
   const int v_count = static_cast<int>(header.vertex_count);
   parsed.topology = BuildTopology(parsed.triangles, v_count);
   parsed.vertex_order = format::BreadthFirstOrder(parsed.topology);
@@ -280,7 +281,8 @@ StatusOr<ParsedStream> ParseStream(std::span<const uint8_t> stream) {
     SegmentSyntax syntax;
     DMC_ASSIGN_OR_RETURN(syntax.header, syntax::ReadSegmentHeader(chunks[base].payload, first_frame,
                                                                   header.frame_count - first_frame,
-                                                                  header.vertex_count));
+                                                                  header.vertex_count,
+                                                                  version_minor));
     DMC_RETURN_IF_ERROR(syntax::ReadMean(chunks[base + 1].payload, syntax));
     DMC_RETURN_IF_ERROR(syntax::ReadBasis(chunks[base + 2].payload, syntax, info.version_minor));
     DMC_RETURN_IF_ERROR(syntax::ReadOperator(chunks[base + 3].payload, parsed.topology, syntax));

@@ -3,7 +3,7 @@
 // name), the decoder (what to rebuild the operator from), RebuildOperator and the operator
 // registry read. Header-only, so that reading it links nothing.
 //
-// The wire-ID rows follow bitstream-spec/dmc-format.md §9.1 ("Codec operator in 1.0" and
+// The wire-ID rows follow bitstream-spec/dmc-format.md §9.1 ("Codec operator in 1.0 and 1.1" and
 // "Operator chunk" columns; tests/unit/conformance checks them); their names are the frozen ones of
 // dmc/wire_ids.h. Rows without a wire ID are operators only the registry builds.
 #pragma once

@@ -13,7 +13,7 @@ namespace dmc::format {
 
 inline constexpr std::array<uint8_t, 4> kMagic = {'D', 'M', 'C', 0x1A};
 inline constexpr uint8_t kVersionMajor = 1;
-inline constexpr uint8_t kVersionMinor = 0;
+inline constexpr uint8_t kVersionMinor = 1;
 
 // Chunk types and connectivity methods are frozen wire IDs: dmc/wire_ids.h.
 using ChunkType = ::dmc::ChunkType;
@@ -72,6 +72,9 @@ struct SegmentHeader {
   double residual_step = 0.0;  // quantisation step of delta-trajectories
   double anchor_step = 0.0;    // quantisation step of anchor coefficients
   double anchor_weight = 1.0;  // weight of anchor rows in the normal equations
+  // Not a header field: the stream's minor version (preamble, §4.1), which selects the syntax of
+  // the segment's payloads. The decoder sets it from the preamble; encoders write kVersionMinor.
+  uint8_t version_minor = kVersionMinor;
 };
 
 // Bits of a segment's chunks and of the whole stream, by syntax element (bytes incl. framing).

@@ -36,6 +36,7 @@
 #include <span>
 #include <vector>
 
+#include "bitstream/format.h"
 #include "dmc/sequence.h"
 #include "dmc/status.h"
 #include "dmc/wire_ids.h"
@@ -49,10 +50,11 @@ using ConnectivityCoding = ConnectivityMethod;
 // untrusted input: sizes, counts and indices are checked before use; any inconsistency is
 // kCorruptStream (kTruncatedStream when the payload ends early) naming the element at fault, and
 // Draco failures are reported as kCorruptStream with Draco's message. The result always has
-// exactly `triangle_count` triangles with indices in [0, vertex_count).
-// `version_minor` is the stream's minor format version: label kernels need 1.1.
+// exactly `triangle_count` triangles with indices in [0, vertex_count). `version_minor` is the
+// stream's (preamble, §4.1): the syntax of the payload it selects.
 StatusOr<Triangles> DecodeConnectivity(std::span<const uint8_t> payload, uint32_t vertex_count,
-                                       uint32_t triangle_count, uint8_t version_minor = 0);
+                                       uint32_t triangle_count,
+                                       uint8_t version_minor = format::kVersionMinor);
 
 namespace connectivity {
 

@@ -197,7 +197,8 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
     DMC_ASSIGN_OR_RETURN(
         format::SegmentHeader seg,
         syntax::ReadSegmentHeader(payload(chunks[base]), next_frame,
-                                  header.frame_count - next_frame, header.vertex_count));
+                                  header.frame_count - next_frame, header.vertex_count,
+                                  static_cast<uint8_t>(info_.version_minor)));
     DMC_RETURN_IF_ERROR(syntax::CheckPayloadCapacity(
                             seg, header.vertex_count,
                             {chunks[base + 1].size, chunks[base + 2].size, chunks[base + 3].size,
@@ -228,8 +229,10 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
     return CorruptStreamError("segments cover " + std::to_string(next_frame) + " of " +
                               std::to_string(header.frame_count) + " frames");
   }
-  DMC_ASSIGN_OR_RETURN(triangles_, DecodeConnectivity(payload(chunks[1]), header.vertex_count,
-                                                      header.triangle_count));
+  DMC_ASSIGN_OR_RETURN(triangles_,
+                       DecodeConnectivity(payload(chunks[1]), header.vertex_count,
+                                          header.triangle_count,
+                                          static_cast<uint8_t>(info_.version_minor)));
   if (options != nullptr) {
     topology_ = BuildTopology(triangles_, static_cast<int>(header.vertex_count));
     vertex_order_ = format::BreadthFirstOrder(topology_);
@@ -254,7 +257,8 @@ Status Decoder::DecodeSegmentIntoImpl(int index, const FrameDestination& destina
   SegmentSyntax syntax;
   DMC_ASSIGN_OR_RETURN(syntax.header, syntax::ReadSegmentHeader(
                                           payload(0), static_cast<uint32_t>(info.first_frame),
-                                          frames_left, static_cast<uint32_t>(info_.vertex_count)));
+                                          frames_left, static_cast<uint32_t>(info_.vertex_count),
+                                          static_cast<uint8_t>(info_.version_minor)));
   const MeshTopology& topology = topology_;
   const std::string where = "segment " + std::to_string(index) + " ";
   DMC_RETURN_IF_ERROR(syntax::ReadMean(payload(1), syntax).WithContext(where + "mean"));

@@ -136,9 +136,11 @@ StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> pay
 
 StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
                                                   uint32_t expected_first_frame,
-                                                  uint32_t frames_left, uint32_t vertex_count) {
+                                                  uint32_t frames_left, uint32_t vertex_count,
+                                                  uint8_t version_minor) {
   ByteReader reader(payload);
   format::SegmentHeader h;
+  h.version_minor = version_minor;
   uint64_t value;
   DMC_RETURN_IF_ERROR(reader.GetVarU(&value, "segment first frame"));
   if (value != expected_first_frame) {
