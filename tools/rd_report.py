@@ -14,6 +14,7 @@ import argparse
 import concurrent.futures
 import json
 import os
+import shlex
 import subprocess
 import sys
 import time
@@ -47,12 +48,12 @@ BREAKDOWN_STED = 0.02
 ELEMENTS = ["residuals", "basis", "operator", "connectivity", "anchors", "mean", "header"]
 
 
-def run_sweep(dmc, name, path, out_dir, baseline, ladder):
+def run_sweep(dmc, name, path, out_dir, baseline, ladder, extra):
     """One `dmc sweep` of one sequence; returns (name, its JSON report, seconds)."""
     command = [str(dmc), "sweep", str(path), "-o", str(out_dir / name), "--operators", "ddl",
                "--baselines", "none", "--sequence", name, "--json",
                "--sted-targets", ",".join(f"{t:g}" for t in STED_TARGETS),
-               "--breakdown-sted", f"{BREAKDOWN_STED:g}"]
+               "--breakdown-sted", f"{BREAKDOWN_STED:g}", *extra]
     if baseline is not None:
         command += ["--baseline", str(baseline)]
     if ladder is not None:
@@ -86,7 +87,8 @@ def shares(row):
 def git(*args):
     done = subprocess.run(["git", "-C", str(REPO), *args], capture_output=True, text=True,
                           check=False)
-    return done.stdout.strip() if done.returncode == 0 else ""
+    # Only trailing whitespace: a porcelain status line starts with a meaningful space.
+    return done.stdout.rstrip() if done.returncode == 0 else ""
 
 
 def dmc_version(dmc):
@@ -117,6 +119,10 @@ def main():
                         help="sweeps run at once (each also uses the codec's own threads)")
     parser.add_argument("-o", "--output", default="/tmp/dmc-rd-report",
                         help="directory for each sweep's files (default: /tmp/dmc-rd-report)")
+    parser.add_argument("--sweep-args", default="",
+                        help="further `dmc sweep` options for every sequence, one string "
+                             "(e.g. \"--residual-rdo-lambda 0.1\"), to measure a non-default "
+                             "setting")
     parser.add_argument("--make-baseline", action="store_true",
                         help="run the baseline ladder and write --baseline instead of comparing")
     args = parser.parse_args()
@@ -156,7 +162,8 @@ def main():
         futures = [
             pool.submit(run_sweep, dmc, name, path, out_dir,
                         None if args.make_baseline else baseline,
-                        BASELINE_LADDER if args.make_baseline else None)
+                        BASELINE_LADDER if args.make_baseline else None,
+                        shlex.split(args.sweep_args))
             for name, path, _ in runs
         ]
         failed = False

@@ -419,6 +419,10 @@ Command AddSweepCommand(CLI::App& parent) {
                   "dmc encoder search effort 0..9 (as dmc encode --effort; 8 = the exhaustive "
                   "search of earlier versions)")
       ->capture_default_str();
+  app->add_option("--residual-rdo-lambda", o.residual_rdo_lambda,
+                  "dmc rate-distortion optimised residual rounding (as dmc encode "
+                  "--residual-rdo-lambda; 0 = plain rounding)")
+      ->capture_default_str();
   app->add_option("--min-baseline-bits", o.min_baseline_bits,
                   "Baselines: coarsest position quantisation bits")
       ->capture_default_str();

@@ -41,6 +41,9 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
   if (!std::isfinite(o.anchor_step_ratio) || o.anchor_step_ratio <= 0.0) {
     return bad("anchor_step_ratio", "must be positive");
   }
+  if (!std::isfinite(o.residual_rdo_lambda) || o.residual_rdo_lambda < 0.0) {
+    return bad("residual_rdo_lambda", "must be finite and >= 0");
+  }
   if (o.segment_frames < 0 || o.segment_frames > static_cast<int>(format::kMaxSegmentFrames)) {
     return bad("segment_frames",
                in_range(0, static_cast<int>(format::kMaxSegmentFrames), o.segment_frames));

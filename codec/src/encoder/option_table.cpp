@@ -27,6 +27,9 @@ constexpr EncoderOptionSpec kOptions[] = {
     {"anchors", &O::anchors, "Anchor vertices per segment; -1 = automatic"},
     {"anchor_step_ratio", &O::anchor_step_ratio,
      "Anchor quantisation step relative to the residual step"},
+    {"residual_rdo_lambda", &O::residual_rdo_lambda,
+     "Rate-distortion optimised residual rounding: round a value one level toward zero when "
+     "that lowers (error in steps)^2 + lambda * bits; 0 = plain rounding"},
     {"segment_frames", &O::segment_frames, "Maximum frames per segment; 0 = default"},
     {"reference_bits", &O::reference_bits,
      "Geometric operators: reference frame step = diagonal * 2^-bits"},

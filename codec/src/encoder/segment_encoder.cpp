@@ -270,11 +270,12 @@ namespace {
 // measurement, which decodes them from the payload.
 WriteResidualsFn ResidualWriter(const MeshTopology& topology,
                                 const std::vector<int32_t>& vertex_order,
-                                const Eigen::MatrixXd& coefficients) {
-  return [&](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
+                                const Eigen::MatrixXd& coefficients, double rdo_lambda) {
+  return [&, rdo_lambda](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
     DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
     const Eigen::MatrixXd delta = laplace.matrix * coefficients;
-    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr);
+    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr,
+                                  rdo_lambda);
   };
 }
 
@@ -286,7 +287,8 @@ WriteResidualsFn ResidualWriter(const MeshTopology& topology,
 StatusOr<SegmentCoding> SegmentEncoder::CodeDdlWeights(Segment& segment,
                                                        Eigen::MatrixXd& coefficients,
                                                        bool top) const {
-  const WriteResidualsFn write_residuals = ResidualWriter(topology_, vertex_order_, coefficients);
+  const WriteResidualsFn write_residuals =
+      ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda);
   const format::SegmentHeader& header = segment.syntax.header;
   if (!top && !plan_.refit_at_every_rank) {
     return ChooseDdlWeights(segment.fitted_weights, topology_, options_, weight_prediction_, header,
@@ -324,7 +326,7 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
     for (SegmentCoding& candidate : CodeFallbackCandidates(
              syntax.header, topology_, segment.mean_shape,
              std::ldexp(diagonal_, -options_.reference_bits),
-             ResidualWriter(topology_, vertex_order_, coefficients),
+             ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda),
              only ? std::optional<OperatorId>(static_cast<OperatorId>(*only)) : std::nullopt)) {
       codings.push_back(std::move(candidate));
     }
@@ -370,10 +372,10 @@ StatusOr<SegmentCoding> SegmentEncoder::DecodableCoding(const Segment& segment, 
                                                         const Eigen::MatrixXd& coefficients) const {
   const Status decodes = CheckCodingDecodes(topology_, vertex_order_, segment.syntax, ddl);
   if (decodes.ok()) return ddl;
-  for (SegmentCoding& candidate :
-       CodeFallbackCandidates(segment.syntax.header, topology_, segment.mean_shape,
-                              std::ldexp(diagonal_, -options_.reference_bits),
-                              ResidualWriter(topology_, vertex_order_, coefficients))) {
+  for (SegmentCoding& candidate : CodeFallbackCandidates(
+           segment.syntax.header, topology_, segment.mean_shape,
+           std::ldexp(diagonal_, -options_.reference_bits),
+           ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda))) {
     if (CheckCodingDecodes(topology_, vertex_order_, segment.syntax, candidate).ok()) {
       return std::move(candidate);
     }
@@ -406,7 +408,8 @@ Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
   }
   if (rank > 0) {
     DMC_ASSIGN_OR_RETURN(coding.residual_payload,
-                         ResidualWriter(topology_, vertex_order_, coefficients)(syntax));
+                         ResidualWriter(topology_, vertex_order_, coefficients,
+                                        options_.residual_rdo_lambda)(syntax));
   }
   coding.header = syntax.header;
   if (rank > 0 && !FactorsByConstruction(syntax.header.operator_id) && !options_.measure) {

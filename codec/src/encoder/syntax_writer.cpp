@@ -9,6 +9,7 @@
 #include <string>
 
 #include "bitstream/syntax.h"
+#include "encoder/bit_cost.h"
 #include "encoder/range_encoder.h"
 
 namespace dmc::syntax {
@@ -241,7 +242,7 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
                                               const MeshTopology& topology,
                                               const std::vector<int32_t>& vertex_order,
                                               const format::SegmentHeader& header,
-                                              Eigen::MatrixXd* decoded) {
+                                              Eigen::MatrixXd* decoded, double rdo_lambda) {
   const int v_count = topology.vertex_count;
   const int rank = static_cast<int>(header.rank);
   if (decoded) decoded->resize(v_count, rank);
@@ -264,7 +265,7 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
             "bits or another operator");
       }
       const int bucket = earlier.Bucket(q, i);
-      q[i] = std::llround(steps);
+      q[i] = RdoLevel(steps, column_contexts[bucket], rdo_lambda);
       encoder.EncodeSigned(column_contexts[bucket], q[i]);
       if (decoded) (*decoded)(v, k) = static_cast<double>(q[i]) * header.residual_step;
     }

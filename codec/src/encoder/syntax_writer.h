@@ -83,11 +83,12 @@ std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
 // values: ReadResiduals on the payload gives the same matrix). kUnsupported when a quantised
 // residual would exceed format::kMaxResidualMagnitude steps (an operator that amplifies
 // near-degenerate geometry enormously, with a very fine step), since no decoder would accept the
-// stream.
+// stream. `rdo_lambda` > 0 rounds each value by rate–distortion (RdoLevel, encoder/bit_cost.h):
+// the decoder is unaffected, `decoded` holds the levels chosen.
 StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
                                               const MeshTopology& topology,
                                               const std::vector<int32_t>& vertex_order,
                                               const format::SegmentHeader& header,
-                                              Eigen::MatrixXd* decoded);
+                                              Eigen::MatrixXd* decoded, double rdo_lambda = 0.0);
 
 }  // namespace dmc::syntax

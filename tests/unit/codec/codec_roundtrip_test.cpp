@@ -287,6 +287,57 @@ TEST(Codec, ResidualReaderReturnsTheWritersDequantisedDeltasExactly) {
   EXPECT_TRUE((syntax.delta.array() == written.array()).all());
 }
 
+// Rate–distortion optimised rounding: the payload still decodes to exactly the writer's
+// dequantised deltas; every level is the nearest or one toward zero; larger λ never costs more
+// bytes; λ = 0 is plain rounding.
+TEST(Codec, RdoRoundingDecodesToTheWritersDeltasAndOnlyMovesTowardZero) {
+  const MeshSequence mesh = WobblingSphere(8, 12, 1);
+  const MeshTopology topology = BuildTopology(mesh.triangles(), mesh.vertex_count());
+  const std::vector<int32_t> vertex_order = format::BreadthFirstOrder(topology);
+  constexpr int kRank = 6;
+  format::SegmentHeader header;
+  header.rank = kRank;
+  header.residual_step = 0.01;
+  Eigen::MatrixXd delta(mesh.vertex_count(), kRank);
+  for (int v = 0; v < mesh.vertex_count(); ++v) {
+    for (int k = 0; k < kRank; ++k) {
+      delta(v, k) = 0.01 * (0.15 * ((v * 13 + k * 5) % 29) - 1.6) / (1 + k);
+    }
+  }
+  Eigen::MatrixXd plain;
+  const auto plain_payload = syntax::WriteResiduals(delta, topology, vertex_order, header, &plain);
+  ASSERT_TRUE(plain_payload.ok());
+  Eigen::MatrixXd zero_lambda;
+  EXPECT_EQ(*syntax::WriteResiduals(delta, topology, vertex_order, header, &zero_lambda, 0.0),
+            *plain_payload);
+  size_t previous_size = plain_payload->size();
+  for (const double lambda : {0.05, 0.2, 1.0}) {
+    SCOPED_TRACE(lambda);
+    Eigen::MatrixXd written;
+    const auto payload =
+        syntax::WriteResiduals(delta, topology, vertex_order, header, &written, lambda);
+    ASSERT_TRUE(payload.ok());
+    EXPECT_LE(payload->size(), previous_size);
+    previous_size = payload->size();
+    int moved = 0;
+    for (int v = 0; v < mesh.vertex_count(); ++v) {
+      for (int k = 0; k < kRank; ++k) {
+        const double nearest = plain(v, k), chosen = written(v, k);
+        if (chosen == nearest) continue;
+        ++moved;
+        EXPECT_NEAR(std::abs(nearest) - std::abs(chosen), header.residual_step, 1e-12);
+        EXPECT_EQ(std::signbit(nearest) || chosen == 0.0, std::signbit(chosen) || chosen == 0.0);
+      }
+    }
+    EXPECT_GT(moved, 0);
+    SegmentSyntax syntax;
+    syntax.header = header;
+    ASSERT_TRUE(syntax::ReadResiduals(*payload, topology, vertex_order, syntax).ok());
+    EXPECT_TRUE((syntax.delta.array() == written.array()).all());
+  }
+  EXPECT_LT(previous_size, plain_payload->size());
+}
+
 // The encoder's comparison of codings (encoder.cpp, kStedSlopeBits): bits + 0.5 · V · F · ln STED.
 double RateDistortionCost(const EncodeReport& report) {
   return 8.0 * static_cast<double>(report.bytes) +

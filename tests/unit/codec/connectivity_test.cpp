@@ -14,6 +14,7 @@
 #include "dmc/io.h"
 #include "dmc/topology.h"
 #include "encoder/connectivity_encoder.h"
+#include "entropy/byte_io.h"
 #include "test_support.h"
 
 namespace dmc {
@@ -385,6 +386,51 @@ TEST(ConnectivityLabels, PredictionsFromDecodedNeighbours) {
   p = connectivity::PredictLabel(adjacency, labels, 2, LabelPredictor::kParallelogram, 4, scratch);
   EXPECT_EQ(p.kind, PredictionKind::kNeighborMedian);
   EXPECT_EQ(p.label, 1);
+}
+
+// The label model byte of a kDracoWithVertexOrder payload (after the method and the Draco
+// buffer).
+uint8_t LabelModelByte(const std::vector<uint8_t>& payload) {
+  ByteReader reader(std::span(payload).subspan(1));
+  uint64_t draco_size = 0;
+  EXPECT_TRUE(reader.GetVarU(&draco_size, "draco size").ok());
+  return payload.at(1 + reader.position() + draco_size);
+}
+
+// Format 1.1 adds label kernels; a 1.0 payload never uses them and decodes under both versions,
+// and a 1.1 payload that uses them is refused as a 1.0 one.
+TEST(ConnectivityLabels, KernelsOnlyFromFormat11) {
+  const MeshSequence grid = testing::PlanarGrid(24);  // neighbours' labels differ by 1 or 24
+  const Triangles& triangles = grid.triangles();
+  const int v_count = grid.vertex_count();
+  const auto t_count = static_cast<uint32_t>(triangles.rows());
+  StatusOr<ConnectivityCode> v10 = EncodeConnectivityWithMethod(
+      triangles, v_count, ConnectivityCoding::kDracoWithVertexOrder, /*version_minor=*/0);
+  StatusOr<ConnectivityCode> v11 = EncodeConnectivityWithMethod(
+      triangles, v_count, ConnectivityCoding::kDracoWithVertexOrder, /*version_minor=*/1);
+  ASSERT_TRUE(v10.ok()) << v10.status().ToString();
+  ASSERT_TRUE(v11.ok()) << v11.status().ToString();
+  EXPECT_LT(LabelModelByte(v10->payload), connectivity::kLabelModelCount);
+  EXPECT_GE(LabelModelByte(v11->payload), connectivity::kLabelModelCount) << "no kernel chosen";
+  EXPECT_LT(v11->payload.size(), v10->payload.size());
+  for (const uint8_t minor : {0, 1}) {
+    StatusOr<Triangles> decoded = DecodeConnectivity(v10->payload, v_count, t_count, minor);
+    ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+    EXPECT_EQ(*decoded, v10->triangles);
+  }
+  StatusOr<Triangles> decoded = DecodeConnectivity(v11->payload, v_count, t_count, 1);
+  ASSERT_TRUE(decoded.ok()) << decoded.status().ToString();
+  EXPECT_EQ(*decoded, v11->triangles);
+  const StatusOr<Triangles> as_10 = DecodeConnectivity(v11->payload, v_count, t_count, 0);
+  EXPECT_EQ(as_10.status().code(), ErrorCode::kCorruptStream);
+  EXPECT_NE(as_10.status().message().find("in format 1.0"), std::string::npos)
+      << as_10.status().ToString();
+  // Every truncation of the 1.1 payload is an error, never a crash.
+  for (size_t length = 0; length < v11->payload.size(); ++length) {
+    EXPECT_FALSE(
+        DecodeConnectivity(std::span(v11->payload).first(length), v_count, t_count, 1).ok())
+        << length;
+  }
 }
 
 // The real meshes: exact round trips, and the rate of each method (printed for the record).

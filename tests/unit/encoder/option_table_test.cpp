@@ -98,6 +98,7 @@ TEST(ValidateOptions, MessagesNameTheOptionInTheSpellingAsked) {
       {"rank_threshold", [](EncoderOptions& o) { o.rank_threshold = 0.0; }},
       {"anchors", [](EncoderOptions& o) { o.anchors = -2; }},
       {"anchor_step_ratio", [&](EncoderOptions& o) { o.anchor_step_ratio = nan; }},
+      {"residual_rdo_lambda", [](EncoderOptions& o) { o.residual_rdo_lambda = -0.1; }},
       {"segment_frames", [](EncoderOptions& o) { o.segment_frames = -1; }},
       {"reference_bits", [](EncoderOptions& o) { o.reference_bits = 3; }},
       {"weight_bits", [](EncoderOptions& o) { o.weight_bits = 21; }},

@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
 #include "decoder/range_decoder.h"
+#include "encoder/bit_cost.h"
 #include "encoder/range_encoder.h"
 #include "entropy/byte_io.h"
 
@@ -127,6 +129,48 @@ TEST(ByteIo, VarintsRoundTripAndTruncationIsNamed) {
   const Status status = reader.GetU8(&byte, "segment count");
   EXPECT_EQ(status.code(), ErrorCode::kTruncatedStream);
   EXPECT_NE(status.message().find("segment count"), std::string::npos);
+}
+
+// The encoder's rate estimate (encoder/bit_cost.h) is what the range coder spends: the summed
+// costs of 50 000 values, each taken under the contexts' state just before coding it, match the
+// payload's size (escapes included) within 0.5 %.
+TEST(BitCost, SignedCostSumsToThePayloadSize) {
+  std::mt19937_64 rng(11);
+  std::geometric_distribution<int> small(0.35);
+  RangeEncoder encoder;
+  IntegerContexts contexts[2];
+  double estimated_bits = 0.0;
+  for (int i = 0; i < 50000; ++i) {
+    const int64_t magnitude = (i % 211 == 0) ? static_cast<int64_t>(rng() >> 44) : small(rng);
+    const int64_t value = (rng() & 1) ? magnitude : -magnitude;
+    IntegerContexts& chosen = contexts[(i / 7) % 2];
+    estimated_bits += SignedCost(chosen, value);
+    encoder.EncodeSigned(chosen, value);
+  }
+  const double coded_bits = 8.0 * static_cast<double>(encoder.Finish().size());
+  EXPECT_NEAR(estimated_bits / coded_bits, 1.0, 0.005) << estimated_bits << " vs " << coded_bits;
+}
+
+// RdoLevel: plain rounding at λ = 0 and for values that round to zero; otherwise the nearest
+// level or the next toward zero, whichever has the lower squared error + λ · bits.
+TEST(BitCost, RdoLevelChoosesBetweenTheNearestLevelAndTheNextTowardZero) {
+  IntegerContexts contexts;
+  RangeEncoder warm_up;
+  for (int i = 0; i < 200; ++i) warm_up.EncodeSigned(contexts, i % 5 == 0 ? 1 : 0);
+  for (const double steps : {-2.5, -1.4, -0.6, -0.2, 0.0, 0.3, 0.7, 1.45, 2.5, 3.2}) {
+    EXPECT_EQ(RdoLevel(steps, contexts, 0.0), std::llround(steps)) << steps;
+  }
+  EXPECT_EQ(RdoLevel(0.4, contexts, 10.0), 0);
+  // Zero is far cheaper than ±1 under these contexts: a large λ moves 0.7 to 0, a tiny one not.
+  EXPECT_EQ(RdoLevel(0.7, contexts, 1.0), 0);
+  EXPECT_EQ(RdoLevel(-0.7, contexts, 1.0), 0);
+  EXPECT_EQ(RdoLevel(0.7, contexts, 1e-3), 1);
+  // Never away from zero, never by more than one level.
+  for (const double steps : {-5.3, -1.6, 1.6, 5.3}) {
+    const int64_t level = RdoLevel(steps, contexts, 100.0);
+    const int64_t nearest = std::llround(steps);
+    EXPECT_TRUE(level == nearest || level == nearest - (nearest > 0 ? 1 : -1)) << steps;
+  }
 }
 
 }  // namespace

@@ -46,13 +46,14 @@ std::string CountOperators(const std::vector<std::string>& segment_operators) {
 // (the caller drops the curve); everything else too, but the caller only skips the point.
 StatusOr<RdPoint> RunDmcPoint(const MeshSequence& sequence, const DistortionMeter& meter,
                               const std::string& operator_name, double residual_bits,
-                              int basis_bits, int effort, double diagonal) {
+                              int basis_bits, const SweepOptions& sweep, double diagonal) {
   EncoderOptions options;
   options.operator_name = operator_name;
   // Fractional bits through the absolute step (which overrides EncoderOptions::residual_bits).
   options.residual_step = diagonal * std::exp2(-residual_bits);
   options.basis_bits = basis_bits;
-  options.effort = effort;
+  options.effort = sweep.effort;
+  options.residual_rdo_lambda = sweep.residual_rdo_lambda;
   options.measure = false;  // measured below with the shared meter, outside the timing
   EncodeReport report;
   const Clock::time_point encode_start = Clock::now();
@@ -138,6 +139,9 @@ Status ValidateSweepOptions(const SweepOptions& options) {
     return InvalidArgumentError("--basis-bits must be 0 (follow the rung) or in [2, 16], got " +
                                 std::to_string(options.basis_bits));
   }
+  if (!std::isfinite(options.residual_rdo_lambda) || options.residual_rdo_lambda < 0.0) {
+    return InvalidArgumentError("--residual-rdo-lambda must be finite and >= 0");
+  }
   if (options.effort < 0 || options.effort > kMaxEffort) {
     return InvalidArgumentError("--effort must be in [0, " + std::to_string(kMaxEffort) +
                                 "], got " + std::to_string(options.effort));
@@ -220,9 +224,8 @@ StatusOr<SweepResult> RunSweep(const MeshSequence& sequence, const SweepOptions&
   for (const std::string& name : options.operators) {
     for (size_t rung = 0; rung < dmc_ladder.size(); ++rung) {
       const double bits = dmc_ladder[rung];
-      StatusOr<RdPoint> point =
-          RunDmcPoint(sequence, meter, name, bits, BasisBitsFor(bits, options.basis_bits),
-                      options.effort, diagonal);
+      StatusOr<RdPoint> point = RunDmcPoint(
+          sequence, meter, name, bits, BasisBitsFor(bits, options.basis_bits), options, diagonal);
       if (!point.ok() && point.status().code() == ErrorCode::kUnsupported) {
         drop_curve("dmc/" + name, dmc_ladder.size() - rung, point.status());
         break;

@@ -69,6 +69,8 @@ struct SweepOptions {
   std::vector<double> ladder;
   int basis_bits = 0;                    // 0: follow the rung (BasisBitsFor), else fixed (2..16)
   int effort = EncoderOptions().effort;  // the dmc encoder's search effort, 0..kMaxEffort
+  // The dmc encoder's rate–distortion optimised residual rounding (EncoderOptions's field).
+  double residual_rdo_lambda = EncoderOptions().residual_rdo_lambda;
   int min_baseline_bits = 8;
   int max_baseline_bits = 16;
   StedOptions sted;
