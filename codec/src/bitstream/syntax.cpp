@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <set>
+#include <utility>
 
 #include "dmc/operator_traits.h"
 
@@ -145,6 +146,62 @@ int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours) {
   const int64_t mean = (2 * abs_sum + coded_neighbours) / (2 * coded_neighbours);
   return std::min<int>(kResidualActivityBuckets - 1,
                        std::bit_width(static_cast<uint64_t>(mean)) + 1);
+}
+
+int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, int64_t previous,
+                      int64_t before_previous) {
+  int64_t numerator = 0;
+  int64_t weights = 0;
+  if (earlier_count > 0) {
+    numerator += 32 * earlier_sum / earlier_count;
+    weights += 2;
+  }
+  if (column >= 1) {
+    numerator += 16 * previous;
+    weights += 1;
+  }
+  if (column >= 2) {
+    numerator += 16 * before_previous;
+    weights += 1;
+  }
+  const int64_t activity = weights == 0 ? 0 : numerator / weights;
+  const int octave =
+      std::min<int>(kResidualActivityOctaves - 1, std::bit_width(static_cast<uint64_t>(activity)));
+  return 2 * octave + (earlier_count > 0 && earlier_sum == 0 ? 1 : 0);
+}
+
+ResidualContextSelector::ResidualContextSelector(const MeshTopology& topology,
+                                                 std::span<const int32_t> vertex_order,
+                                                 uint8_t version_minor)
+    : minor_(version_minor),
+      earlier_(ListEarlierNeighbours(topology, vertex_order)),
+      current_(vertex_order.size(), 0),
+      contexts_(std::make_unique<ResidualContexts>()) {
+  if (minor_ >= 1) {
+    previous_.assign(vertex_order.size(), 0);
+    before_previous_.assign(vertex_order.size(), 0);
+  }
+}
+
+void ResidualContextSelector::NextColumn(int column) {
+  column_ = column;
+  group_ = ResidualColumnGroup(column);
+  if (minor_ >= 1) {
+    // Column k-1 becomes k-2, column k becomes k-1; the new column overwrites the oldest values
+    // (Select reads only positions recorded in it).
+    std::swap(before_previous_, previous_);
+    std::swap(previous_, current_);
+  }
+}
+
+int ResidualContextSelector::Context11(int i) const {
+  int64_t sum = 0;
+  for (int32_t e = earlier_.offsets[i]; e < earlier_.offsets[i + 1]; ++e) {
+    sum += std::min(current_[earlier_.positions[e]], kResidualActivityClamp);
+  }
+  return ResidualContext11(column_, sum, earlier_.offsets[i + 1] - earlier_.offsets[i],
+                           std::min(previous_[i], kResidualActivityClamp),
+                           std::min(before_previous_[i], kResidualActivityClamp));
 }
 
 ReferenceFramePredictor::ReferenceFramePredictor(const MeshTopology& topology)

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -82,8 +83,61 @@ struct EarlierNeighbours {
 EarlierNeighbours ListEarlierNeighbours(const MeshTopology& topology,
                                         std::span<const int32_t> vertex_order);
 
+// Format 1.1 (spec §8.6): the context of a residual is chosen by an activity estimate that
+// weighs the mean |q| of the earlier-coded neighbours in the same column (weight 2) with the same
+// vertex's |q| in the two previous columns (weight 1 each):
+//   a = floor((floor(32·S / n) + 16·P1 + 16·P2) / (2·[n > 0] + [k ≥ 1] + [k ≥ 2])), 0 if the
+//   divisor is 0, a term taking part only when its condition holds, S the sum of the n
+//   earlier-coded neighbours' |q|, P1 and P2 the vertex's |q| in columns k-1 and k-2, each |q|
+//   entering as min(|q|, kResidualActivityClamp);
+//   context = 2·min(kResidualActivityOctaves - 1, bit_width(a)) + [n > 0 and S = 0].
+inline constexpr int kResidualActivityOctaves = 10;
+inline constexpr int kResidualContextsPerGroup11 = 2 * kResidualActivityOctaves;
+inline constexpr int64_t kResidualActivityClamp = int64_t{1} << 16;
+// `earlier_sum`: the clamped |q| summed over the `earlier_count` earlier-coded neighbours in
+// column k; `previous` and `before_previous`: the vertex's clamped |q| in columns k-1 and k-2
+// (ignored when k < 1 and k < 2).
+int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, int64_t previous,
+                      int64_t before_previous);
+
+inline constexpr int kResidualContextsPerGroup =
+    kResidualContextsPerGroup11 > kResidualActivityBuckets ? kResidualContextsPerGroup11
+                                                           : kResidualActivityBuckets;
 struct ResidualContexts {
-  IntegerContexts sets[kResidualColumnGroups][kResidualActivityBuckets];
+  // 1.0 uses sets[g][0 .. kResidualActivityBuckets), 1.1 sets[g][0 .. kResidualContextsPerGroup11).
+  IntegerContexts sets[kResidualColumnGroups][kResidualContextsPerGroup];
+};
+
+// The context selection of the residual chunk, the one place the writer and the reader share:
+// per segment, for the stream's minor version. Values are coded column by column (k = 0 .. r-1),
+// each column over the vertices in coding order (i = 0 .. V-1); before coding the value of
+// (k, i) call Select(k, i), after it Record(k, i, q). Select may be called more than once for the
+// same (k, i) (an encoder weighing candidate values); it does not change the state.
+class ResidualContextSelector {
+ public:
+  ResidualContextSelector(const MeshTopology& topology, std::span<const int32_t> vertex_order,
+                          uint8_t version_minor);
+
+  IntegerContexts& Select(int column, int i) {
+    if (column != column_) NextColumn(column);
+    return contexts_->sets[group_][minor_ == 0 ? earlier_.Bucket(current_, i) : Context11(i)];
+  }
+  void Record(int column, int i, int64_t q) {
+    if (column != column_) NextColumn(column);
+    current_[i] = q < 0 ? -q : q;
+  }
+
+ private:
+  void NextColumn(int column);
+  int Context11(int i) const;
+
+  uint8_t minor_;
+  int column_ = 0;
+  int group_ = 0;
+  EarlierNeighbours earlier_;
+  // |q| by coding position in columns k, k-1 and k-2 (column k: positions < i recorded so far).
+  std::vector<int64_t> current_, previous_, before_previous_;
+  std::unique_ptr<ResidualContexts> contexts_;
 };
 
 inline constexpr int kBasisColumnGroups = 16;

@@ -312,22 +312,19 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
   if (rank == 0) return Status::Ok();
   RangeDecoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Init(payload));
-  auto contexts = std::make_unique<format::ResidualContexts>();
-  // Contexts from the earlier-coded neighbours, listed once (format::EarlierNeighbours).
-  const format::EarlierNeighbours earlier = format::ListEarlierNeighbours(topology, vertex_order);
-  std::vector<int64_t> q(v_count);  // the current column's values, by coding position
+  // The context of each value (format::ResidualContextSelector, shared with the writer).
+  format::ResidualContextSelector selector(topology, vertex_order, syntax.header.version_minor);
   const double step = syntax.header.residual_step;
   for (int k = 0; k < rank; ++k) {
-    auto& column_contexts = contexts->sets[format::ResidualColumnGroup(k)];
     double* delta = syntax.delta.col(k).data();
     for (int i = 0; i < v_count; ++i) {
-      IntegerContexts& ctx = column_contexts[earlier.Bucket(q, i)];
+      IntegerContexts& ctx = selector.Select(k, i);
       int64_t value;
       if (!decoder.TryDecodeSigned(ctx, &value)) return decoder.error();
       if (value > format::kMaxResidualMagnitude || value < -format::kMaxResidualMagnitude) {
         return CorruptStreamError("residual out of range");
       }
-      q[i] = value;
+      selector.Record(k, i, value);
       delta[vertex_order[i]] = static_cast<double>(value) * step;
     }
     // Stop at the first column that ran past the payload: a tiny stream declaring a huge mesh

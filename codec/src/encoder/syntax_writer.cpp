@@ -248,12 +248,9 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
   if (decoded) decoded->resize(v_count, rank);
   if (rank == 0) return std::vector<uint8_t>();
   RangeEncoder encoder;
-  auto contexts = std::make_unique<format::ResidualContexts>();
-  // Contexts from the earlier-coded neighbours, listed once (format::EarlierNeighbours).
-  const format::EarlierNeighbours earlier = format::ListEarlierNeighbours(topology, vertex_order);
-  std::vector<int64_t> q(v_count);  // the current column's values, by coding position
+  // The context of each value (format::ResidualContextSelector, shared with the reader).
+  format::ResidualContextSelector selector(topology, vertex_order, header.version_minor);
   for (int k = 0; k < rank; ++k) {
-    auto& column_contexts = contexts->sets[format::ResidualColumnGroup(k)];
     for (int i = 0; i < v_count; ++i) {
       const int v = vertex_order[i];
       const double steps = delta(v, k) / header.residual_step;
@@ -264,10 +261,11 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
             "operator amplifies this geometry too much for the residual step; use fewer residual " +
             "bits or another operator");
       }
-      const int bucket = earlier.Bucket(q, i);
-      q[i] = RdoLevel(steps, column_contexts[bucket], rdo_lambda);
-      encoder.EncodeSigned(column_contexts[bucket], q[i]);
-      if (decoded) (*decoded)(v, k) = static_cast<double>(q[i]) * header.residual_step;
+      IntegerContexts& contexts = selector.Select(k, i);
+      const int64_t q = RdoLevel(steps, contexts, rdo_lambda);
+      encoder.EncodeSigned(contexts, q);
+      selector.Record(k, i, q);
+      if (decoded) (*decoded)(v, k) = static_cast<double>(q) * header.residual_step;
     }
   }
   return encoder.Finish();
