@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <bit>
 #include <set>
-#include <utility>
 
 #include "dmc/operator_traits.h"
 
@@ -148,8 +147,8 @@ int ResidualActivityBucket(int64_t abs_sum, int coded_neighbours) {
                        std::bit_width(static_cast<uint64_t>(mean)) + 1);
 }
 
-int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, int64_t previous,
-                      int64_t before_previous) {
+int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, uint32_t fast,
+                      uint32_t slow) {
   int64_t numerator = 0;
   int64_t weights = 0;
   if (earlier_count > 0) {
@@ -157,12 +156,8 @@ int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, int64_
     weights += 2;
   }
   if (column >= 1) {
-    numerator += 16 * previous;
-    weights += 1;
-  }
-  if (column >= 2) {
-    numerator += 16 * before_previous;
-    weights += 1;
+    numerator += int64_t{fast} + slow;
+    weights += 2;
   }
   const int64_t activity = weights == 0 ? 0 : numerator / weights;
   const int octave =
@@ -178,30 +173,18 @@ ResidualContextSelector::ResidualContextSelector(const MeshTopology& topology,
       current_(vertex_order.size(), 0),
       contexts_(std::make_unique<ResidualContexts>()) {
   if (minor_ >= 1) {
-    previous_.assign(vertex_order.size(), 0);
-    before_previous_.assign(vertex_order.size(), 0);
+    fast_.assign(vertex_order.size(), 0);
+    slow_.assign(vertex_order.size(), 0);
   }
 }
 
-void ResidualContextSelector::NextColumn(int column) {
-  column_ = column;
-  group_ = ResidualColumnGroup(column);
-  if (minor_ >= 1) {
-    // Column k-1 becomes k-2, column k becomes k-1; the new column overwrites the oldest values
-    // (Select reads only positions recorded in it).
-    std::swap(before_previous_, previous_);
-    std::swap(previous_, current_);
-  }
-}
-
-int ResidualContextSelector::Context11(int i) const {
+int ResidualContextSelector::Context11(int column, int i) const {
   int64_t sum = 0;
   for (int32_t e = earlier_.offsets[i]; e < earlier_.offsets[i + 1]; ++e) {
     sum += std::min(current_[earlier_.positions[e]], kResidualActivityClamp);
   }
-  return ResidualContext11(column_, sum, earlier_.offsets[i + 1] - earlier_.offsets[i],
-                           std::min(previous_[i], kResidualActivityClamp),
-                           std::min(before_previous_[i], kResidualActivityClamp));
+  return ResidualContext11(column, sum, earlier_.offsets[i + 1] - earlier_.offsets[i], fast_[i],
+                           slow_[i]);
 }
 
 ReferenceFramePredictor::ReferenceFramePredictor(const MeshTopology& topology)

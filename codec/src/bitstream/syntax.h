@@ -84,21 +84,28 @@ EarlierNeighbours ListEarlierNeighbours(const MeshTopology& topology,
                                         std::span<const int32_t> vertex_order);
 
 // Format 1.1 (spec §8.6): the context of a residual is chosen by an activity estimate that
-// weighs the mean |q| of the earlier-coded neighbours in the same column (weight 2) with the same
-// vertex's |q| in the two previous columns (weight 1 each):
-//   a = floor((floor(32·S / n) + 16·P1 + 16·P2) / (2·[n > 0] + [k ≥ 1] + [k ≥ 2])), 0 if the
-//   divisor is 0, a term taking part only when its condition holds, S the sum of the n
-//   earlier-coded neighbours' |q|, P1 and P2 the vertex's |q| in columns k-1 and k-2, each |q|
-//   entering as min(|q|, kResidualActivityClamp);
-//   context = 2·min(kResidualActivityOctaves - 1, bit_width(a)) + [n > 0 and S = 0].
+// weighs the mean |q| of the earlier-coded neighbours in the same column (weight 2) with two
+// decayed histories of the same vertex's |q| over the previous columns (weight 1 each), in
+// 1/16 units, every |q| clamped to kResidualActivityClamp (m = 16·min(|q|, clamp)):
+//   after column k: fast = k = 0 ? m : (fast + m) >> 1, slow = k = 0 ? m : (3·slow + m) >> 2;
+//   activity = floor((floor(32·S / n) + fast + slow) / (2·[n > 0] + 2·[k ≥ 1])), 0 if the divisor
+//   is 0, a term taking part only when its condition holds (S the clamped |q| summed over the n
+//   earlier-coded neighbours);
+//   context = 2·min(kResidualActivityOctaves - 1, bit_width(activity)) + [n > 0 and S = 0].
 inline constexpr int kResidualActivityOctaves = 10;
 inline constexpr int kResidualContextsPerGroup11 = 2 * kResidualActivityOctaves;
 inline constexpr int64_t kResidualActivityClamp = int64_t{1} << 16;
+// The vertex's histories after a column with magnitude `q_abs` (column 0 starts them).
+inline void UpdateResidualHistories(int column, int64_t q_abs, uint32_t& fast, uint32_t& slow) {
+  const auto m =
+      static_cast<uint32_t>(16 * (q_abs < kResidualActivityClamp ? q_abs : kResidualActivityClamp));
+  fast = column == 0 ? m : (fast + m) >> 1;
+  slow = column == 0 ? m : (3 * slow + m) >> 2;
+}
 // `earlier_sum`: the clamped |q| summed over the `earlier_count` earlier-coded neighbours in
-// column k; `previous` and `before_previous`: the vertex's clamped |q| in columns k-1 and k-2
-// (ignored when k < 1 and k < 2).
-int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, int64_t previous,
-                      int64_t before_previous);
+// `column`; `fast` and `slow`: the vertex's histories (ignored in column 0).
+int ResidualContext11(int column, int64_t earlier_sum, int earlier_count, uint32_t fast,
+                      uint32_t slow);
 
 inline constexpr int kResidualContextsPerGroup =
     kResidualContextsPerGroup11 > kResidualActivityBuckets ? kResidualContextsPerGroup11
@@ -119,24 +126,27 @@ class ResidualContextSelector {
                           uint8_t version_minor);
 
   IntegerContexts& Select(int column, int i) {
-    if (column != column_) NextColumn(column);
-    return contexts_->sets[group_][minor_ == 0 ? earlier_.Bucket(current_, i) : Context11(i)];
+    auto& sets = contexts_->sets[ResidualColumnGroup(column)];
+    return sets[minor_ == 0 ? earlier_.Bucket(current_, i) : Context11(column, i)];
   }
+  // Exactly once per value, after it is coded.
   void Record(int column, int i, int64_t q) {
-    if (column != column_) NextColumn(column);
-    current_[i] = q < 0 ? -q : q;
+    const int64_t q_abs = q < 0 ? -q : q;
+    current_[i] = q_abs;
+    if (minor_ >= 1) UpdateResidualHistories(column, q_abs, fast_[i], slow_[i]);
   }
 
  private:
-  void NextColumn(int column);
-  int Context11(int i) const;
+  int Context11(int column, int i) const;
 
   uint8_t minor_;
-  int column_ = 0;
-  int group_ = 0;
   EarlierNeighbours earlier_;
-  // |q| by coding position in columns k, k-1 and k-2 (column k: positions < i recorded so far).
-  std::vector<int64_t> current_, previous_, before_previous_;
+  // |q| by coding position in the current column (positions < i recorded so far; the rest hold
+  // the previous column's, never read).
+  std::vector<int64_t> current_;
+  // 1.1: the histories by coding position, over the columns before the current one (and, for
+  // positions < i, the current one).
+  std::vector<uint32_t> fast_, slow_;
   std::unique_ptr<ResidualContexts> contexts_;
 };
 
