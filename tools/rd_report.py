@@ -121,7 +121,7 @@ def main():
                         help="directory for each sweep's files (default: /tmp/dmc-rd-report)")
     parser.add_argument("--sweep-args", default="",
                         help="further `dmc sweep` options for every sequence, one string "
-                             "(e.g. \"--residual-rdo-lambda 0.1\"), to measure a non-default "
+                             "(e.g. \"--encoder-option residual_rdo_lambda=0.1\"), to measure a non-default "
                              "setting")
     parser.add_argument("--make-baseline", action="store_true",
                         help="run the baseline ladder and write --baseline instead of comparing")

@@ -38,6 +38,7 @@ struct SweepArgs {
   double breakdown_sted = 0.02;
   bool range_given = false;  // --points, --min- or --max-residual-bits on the command line
   sweep::SweepOptions options;
+  std::vector<std::string> encoder_settings;  // --encoder-option NAME=VALUE
   GltfReadFlags gltf;
   bool json = false;
 };
@@ -200,6 +201,11 @@ int RunSweep(SweepArgs args) {
     StatusOr<sweep::BaselineKind> kind = sweep::ParseBaseline(name);
     if (!kind.ok()) return ReportError("sweep", kind.status(), args.json);
     options.baselines.push_back(*kind);
+  }
+  for (const std::string& setting : args.encoder_settings) {
+    if (Status set = sweep::SetEncoderOption(&options.encoder, setting); !set.ok()) {
+      return ReportError("sweep", set, args.json);
+    }
   }
   // Everything that can be checked before the (long) run.
   if (Status valid = sweep::ValidateSweepOptions(options); !valid.ok()) {
@@ -419,10 +425,11 @@ Command AddSweepCommand(CLI::App& parent) {
                   "dmc encoder search effort 0..9 (as dmc encode --effort; 8 = the exhaustive "
                   "search of earlier versions)")
       ->capture_default_str();
-  app->add_option("--residual-rdo-lambda", o.residual_rdo_lambda,
-                  "dmc rate-distortion optimised residual rounding (as dmc encode "
-                  "--residual-rdo-lambda; 0 = plain rounding)")
-      ->capture_default_str();
+  app->add_option("--encoder-option", args->encoder_settings,
+                  "NAME=VALUE: a dmc encoder option for every dmc point, by its name in dmc "
+                  "encode's flags with '_' for '-' (e.g. rank_threshold=100, "
+                  "residual_rdo_lambda=0); repeatable. The ladder's own (operator, residual "
+                  "bits and step, basis bits, effort) are set by the options above");
   app->add_option("--min-baseline-bits", o.min_baseline_bits,
                   "Baselines: coarsest position quantisation bits")
       ->capture_default_str();

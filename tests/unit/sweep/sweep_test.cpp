@@ -94,6 +94,34 @@ TEST(ValidateSweepOptions, NamesTheBadField) {
   EXPECT_FALSE(ValidateSweepOptions(options).ok());
 }
 
+TEST(SetEncoderOption, SetsTableOptionsByNameAndRefusesTheRest) {
+  EncoderOptions options;
+  EXPECT_TRUE(SetEncoderOption(&options, "rank_threshold=100").ok());
+  EXPECT_EQ(options.rank_threshold, 100.0);
+  EXPECT_TRUE(SetEncoderOption(&options, "anchors=25").ok());
+  EXPECT_EQ(options.anchors, 25);
+  EXPECT_TRUE(SetEncoderOption(&options, "residual_rdo_lambda=0.125").ok());
+  EXPECT_EQ(options.residual_rdo_lambda, 0.125);
+  EXPECT_TRUE(SetEncoderOption(&options, "rank_search=off").ok());
+  EXPECT_FALSE(options.rank_search);
+  const auto message = [&](std::string_view setting) {
+    const Status status = SetEncoderOption(&options, setting);
+    EXPECT_EQ(status.code(), ErrorCode::kInvalidArgument) << setting;
+    return status.message();
+  };
+  EXPECT_THAT(message("anchors"), HasSubstr("NAME=VALUE"));
+  EXPECT_THAT(message("anchors=2.5"), HasSubstr("an integer"));
+  EXPECT_THAT(message("anchor_step_ratio=x"), HasSubstr("a number"));
+  EXPECT_THAT(message("rank_search=maybe"), HasSubstr("true or false"));
+  EXPECT_THAT(message("no_such_option=1"), HasSubstr("no encoder option"));
+  EXPECT_THAT(message("effort=3"), HasSubstr("sets effort itself"));
+  EXPECT_THAT(message("residual_step=0.1"), HasSubstr("sets residual_step itself"));
+  EXPECT_EQ(options.anchors, 25);  // refused settings change nothing
+  SweepOptions sweep;
+  ASSERT_TRUE(SetEncoderOption(&sweep.encoder, "weight_bits=40").ok());
+  EXPECT_THAT(ValidateSweepOptions(sweep).message(), HasSubstr("weight_bits"));
+}
+
 TEST(RunSweep, PointsAreWhatASeparateEncodeDecodeAndMeasureGives) {
   SweepOptions options;
   options.operators = {"tutte"};

@@ -3,11 +3,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
+#include <string_view>
+#include <type_traits>
+#include <variant>
 
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
+#include "dmc/encoder_options.h"
 #include "dmc/operator_registry.h"
 
 namespace dmc::sweep {
@@ -47,13 +52,12 @@ std::string CountOperators(const std::vector<std::string>& segment_operators) {
 StatusOr<RdPoint> RunDmcPoint(const MeshSequence& sequence, const DistortionMeter& meter,
                               const std::string& operator_name, double residual_bits,
                               int basis_bits, const SweepOptions& sweep, double diagonal) {
-  EncoderOptions options;
+  EncoderOptions options = sweep.encoder;
   options.operator_name = operator_name;
   // Fractional bits through the absolute step (which overrides EncoderOptions::residual_bits).
   options.residual_step = diagonal * std::exp2(-residual_bits);
   options.basis_bits = basis_bits;
   options.effort = sweep.effort;
-  options.residual_rdo_lambda = sweep.residual_rdo_lambda;
   options.measure = false;  // measured below with the shared meter, outside the timing
   EncodeReport report;
   const Clock::time_point encode_start = Clock::now();
@@ -120,6 +124,59 @@ std::string RdPoint::Curve() const {
   return operator_name.empty() ? codec : codec + "/" + operator_name;
 }
 
+Status SetEncoderOption(EncoderOptions* options, std::string_view setting) {
+  const size_t equals = setting.find('=');
+  const std::string quoted = "--encoder-option '" + std::string(setting) + "'";
+  if (equals == std::string_view::npos) {
+    return InvalidArgumentError(quoted + ": expected NAME=VALUE");
+  }
+  const std::string_view name = setting.substr(0, equals);
+  const std::string value(setting.substr(equals + 1));
+  static constexpr std::string_view kLadderSets[] = {
+      "operator", "residual_bits", "residual_step", "basis_bits",
+      "effort",   "measure",       "target_bpfv",   "target_sted"};
+  for (const std::string_view taken : kLadderSets) {
+    if (name == taken) {
+      return InvalidArgumentError(quoted + ": the sweep sets " + std::string(name) +
+                                  " itself (--operators, the ladder, --basis-bits, --effort)");
+    }
+  }
+  const EncoderOptionSpec* spec = FindEncoderOption(name);
+  if (spec == nullptr) {
+    return InvalidArgumentError(quoted + ": no encoder option is called " + std::string(name) +
+                                " (the names of dmc encode's flags, with '_' for '-')");
+  }
+  const auto bad_value = [&](const char* type) {
+    return InvalidArgumentError(quoted + ": " + std::string(name) + " takes " + type);
+  };
+  return std::visit(
+      [&](auto field) -> Status {
+        auto& target = options->*field;
+        using T = std::remove_reference_t<decltype(target)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          if (value == "true" || value == "on" || value == "1") {
+            target = true;
+          } else if (value == "false" || value == "off" || value == "0") {
+            target = false;
+          } else {
+            return bad_value("true or false");
+          }
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          target = value;
+        } else {
+          T parsed{};
+          const char* end = value.data() + value.size();
+          const auto [stop, error] = std::from_chars(value.data(), end, parsed);
+          if (value.empty() || error != std::errc() || stop != end) {
+            return bad_value(std::is_same_v<T, int> ? "an integer" : "a number");
+          }
+          target = parsed;
+        }
+        return Status::Ok();
+      },
+      spec->field);
+}
+
 Status ValidateSweepOptions(const SweepOptions& options) {
   if (options.points < 2) {
     return InvalidArgumentError("--points must be at least 2, got " +
@@ -139,8 +196,8 @@ Status ValidateSweepOptions(const SweepOptions& options) {
     return InvalidArgumentError("--basis-bits must be 0 (follow the rung) or in [2, 16], got " +
                                 std::to_string(options.basis_bits));
   }
-  if (!std::isfinite(options.residual_rdo_lambda) || options.residual_rdo_lambda < 0.0) {
-    return InvalidArgumentError("--residual-rdo-lambda must be finite and >= 0");
+  if (Status encoder = ValidateOptions(options.encoder); !encoder.ok()) {
+    return InvalidArgumentError("--encoder-option: " + encoder.message());
   }
   if (options.effort < 0 || options.effort > kMaxEffort) {
     return InvalidArgumentError("--effort must be in [0, " + std::to_string(kMaxEffort) +

@@ -69,8 +69,10 @@ struct SweepOptions {
   std::vector<double> ladder;
   int basis_bits = 0;                    // 0: follow the rung (BasisBitsFor), else fixed (2..16)
   int effort = EncoderOptions().effort;  // the dmc encoder's search effort, 0..kMaxEffort
-  // The dmc encoder's rate–distortion optimised residual rounding (EncoderOptions's field).
-  double residual_rdo_lambda = EncoderOptions().residual_rdo_lambda;
+  // Every other dmc encoder option of every point (the rank threshold, anchors, residual
+  // rounding, …): the ladder sets operator_name, residual_step, basis_bits and effort from the
+  // fields above, and measure is off (the sweep measures). SetEncoderOption fills it by name.
+  EncoderOptions encoder;
   int min_baseline_bits = 8;
   int max_baseline_bits = 16;
   StedOptions sted;
@@ -81,6 +83,13 @@ struct SweepOptions {
 // outside [0, kMaxEffort], baseline bits outside [kMinBaselineBits, kMaxBaselineBits] or min > max,
 // no operator and no baseline, invalid STED options.
 Status ValidateSweepOptions(const SweepOptions& options);
+
+// Sets one option of `options` from "NAME=VALUE", NAME an encoder option table name
+// (dmc/encoder_options.h) and VALUE its type's text (a switch: true/false/on/off/1/0).
+// kInvalidArgument naming the setting when it has no '=', VALUE does not parse entirely, or NAME
+// is unknown or one the ladder sets (operator, residual_bits, residual_step, basis_bits, effort,
+// measure, target_bpfv, target_sted).
+Status SetEncoderOption(EncoderOptions* options, std::string_view setting);
 
 // The rungs of the dmc ladder (fractional bits, increasing, distinct): the explicit ladder when
 // given, else `points` rungs evenly over [min_residual_bits, max_residual_bits].
