@@ -29,6 +29,7 @@
 
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
+#include "decoder/connectivity_decoder.h"
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
 #include "dmc/encoder_options.h"
@@ -248,7 +249,7 @@ std::vector<ValidVector> ValidVectors() {
     add("twist_ddl_fallback_mixed",
         "the DDL encoder's per-segment fallback: three 4-frame segments, each coded with the "
         "operator the fallback chose (at least two different ones occur)",
-        Synth("twist", 200, 12, 12), options, ConnectivityMethod::kDracoWithVertexOrder, 3);
+        Synth("twist", 200, 12, 1), options, ConnectivityMethod::kDracoWithVertexOrder, 3);
     vectors.back().mixed_operators = true;
   }
   return vectors;
@@ -529,6 +530,11 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
     add("version_newer_minor", "minor version one above what this format defines", ddl, bad,
         kUnsupported, kUnsupported);
     bad = s;
+    bad[5] = 0;
+    add("minor_version_lowered",
+        "minor version 0 in a 1.1 stream (the minor version seeds the checksums: corrupt-stream)",
+        ddl, bad, kCorrupt, kCorrupt);
+    bad = s;
     bad[6] = 0x01;
     add("reserved_byte_set", "reserved preamble byte is 1", ddl, bad, kCorrupt, kCorrupt);
   }
@@ -683,15 +689,27 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   connectivity_vector(
       "draco_size_past_payload", "Draco buffer size larger than the payload",
       [&](std::vector<uint8_t>& p) { p.resize(draco_start + 20); }, kTruncated);
+  const auto set_label_model = [](std::vector<uint8_t>& p, uint8_t model) {
+    ByteReader reader(std::span<const uint8_t>(p).subspan(1));
+    uint64_t size = 0;
+    (void)reader.GetVarU(&size, "Draco buffer size");
+    p[1 + reader.position() + size] = model;
+  };
   connectivity_vector(
-      "label_model_unknown", "vertex label model byte 4",
-      [&](std::vector<uint8_t>& p) {
-        ByteReader reader(std::span<const uint8_t>(p).subspan(1));
-        uint64_t size = 0;
-        (void)reader.GetVarU(&size, "Draco buffer size");
-        p[1 + reader.position() + size] = 4;
-      },
+      "label_model_unknown", "vertex label model byte 16 (1.1 defines 0-15)",
+      [&](std::vector<uint8_t>& p) { set_label_model(p, connectivity::kLabelModelCount11); },
       kCorrupt);
+  {
+    // A label kernel (model byte 4: kernel radius 16) in a stream that says it is format 1.0
+    // (checksums seeded accordingly), which has no kernels; the connectivity is checked before
+    // any segment's 1.1 syntax.
+    const std::vector<uint8_t> bad = Edited(ddl, [&](Framed& f) {
+      f.preamble[5] = 0;
+      set_label_model(f.chunks[kConnectivityChunk].payload, connectivity::kLabelModelCount);
+    });
+    add("label_kernel_in_format_1_0", "vertex label model byte 4 (a label kernel) in a 1.0 stream",
+        ddl, bad, kCorrupt, kCorrupt);
+  }
   connectivity_vector(
       "labels_truncated", "vertex labels cut to 5 bytes",
       [&](std::vector<uint8_t>& p) {
@@ -838,12 +856,25 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
                    kMeanChunk, encoder.Finish(), kCorrupt);
   }
   {
-    const int levels = (1 << (ddl.parsed.segments[0].header.basis_bits - 1)) - 1;
+    // 1.1 basis syntax (§8.3.2): first column at the header's depth, predictor mode 0, then its
+    // first sample one level beyond that depth's range.
+    const int depth = static_cast<int>(ddl.parsed.segments[0].header.basis_bits);
+    const int levels = (1 << (depth - 1)) - 1;
+    const int g = format::BasisContextGroup(0, depth);
     RangeEncoder encoder;
     auto contexts = std::make_unique<format::BasisContexts>();
-    encoder.EncodeBit(contexts->second_order[0], 0);
-    encoder.EncodeSigned(contexts->first[0], levels + 1);
+    encoder.EncodeSigned(contexts->depth, 0);
+    encoder.EncodeBit(contexts->predictor_high[g], 0);
+    encoder.EncodeBit(contexts->predictor_low[g][0], 0);
+    encoder.EncodeSigned(contexts->first[g], levels + 1);
     payload_vector("basis_sample_out_of_range", "first basis sample one level beyond the range",
+                   ddl, kBasisChunk, encoder.Finish(), kCorrupt);
+  }
+  {
+    RangeEncoder encoder;
+    auto contexts = std::make_unique<format::BasisContexts>();
+    encoder.EncodeSigned(contexts->depth, 1);
+    payload_vector("basis_depth_above_header", "first basis column one bit deeper than basis_bits",
                    ddl, kBasisChunk, encoder.Finish(), kCorrupt);
   }
   {

@@ -254,7 +254,9 @@ std::vector<uint8_t> JoinFramed(const Framed& framed, bool recompute_checksums) 
     out.PutU8(chunk.type);
     out.PutVarU(chunk.payload.size());
     out.PutBytes(chunk.payload);
-    out.PutU32(recompute_checksums ? format::ChunkChecksum(chunk.type, chunk.payload)
+    // The seed holds the preamble's minor version (byte 5; spec §4.2).
+    const uint8_t minor = framed.preamble.size() > 5 ? framed.preamble[5] : format::kVersionMinor;
+    out.PutU32(recompute_checksums ? format::ChunkChecksum(chunk.type, chunk.payload, minor)
                                    : chunk.checksum);
   }
   out.PutBytes(framed.trailing);
@@ -279,10 +281,10 @@ StatusOr<ParsedStream> ParseStream(std::span<const uint8_t> stream) {
     const size_t base = 2 + 6 * s;
     const auto first_frame = static_cast<uint32_t>(info.segments[s].first_frame);
     SegmentSyntax syntax;
-    DMC_ASSIGN_OR_RETURN(syntax.header, syntax::ReadSegmentHeader(chunks[base].payload, first_frame,
-                                                                  header.frame_count - first_frame,
-                                                                  header.vertex_count,
-                                                                  version_minor));
+    DMC_ASSIGN_OR_RETURN(syntax.header,
+                         syntax::ReadSegmentHeader(chunks[base].payload, first_frame,
+                                                   header.frame_count - first_frame,
+                                                   header.vertex_count, version_minor));
     DMC_RETURN_IF_ERROR(syntax::ReadMean(chunks[base + 1].payload, syntax));
     DMC_RETURN_IF_ERROR(syntax::ReadBasis(chunks[base + 2].payload, syntax, info.version_minor));
     DMC_RETURN_IF_ERROR(syntax::ReadOperator(chunks[base + 3].payload, parsed.topology, syntax));

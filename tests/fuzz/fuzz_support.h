@@ -67,7 +67,7 @@ inline std::vector<uint8_t> RepairChecksums(std::span<const uint8_t> stream) {
         !reader.GetBytes(static_cast<size_t>(size), &payload, "").ok() || reader.remaining() < 4) {
       break;
     }
-    const uint32_t checksum = format::ChunkChecksum(type, payload);
+    const uint32_t checksum = format::ChunkChecksum(type, payload, preamble[5]);
     for (int i = 0; i < 4; ++i) {
       repaired[reader.position() + i] = static_cast<uint8_t>(checksum >> (8 * i));
     }

@@ -13,8 +13,9 @@ namespace dmc::format {
 // GCC/Clang's 128-bit integer; __extension__ keeps -Wpedantic quiet about it.
 __extension__ using Int128 = __int128;
 
-uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload) {
-  return XXH32(payload.data(), payload.size(), chunk_type);
+uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload,
+                       uint8_t version_minor) {
+  return XXH32(payload.data(), payload.size(), chunk_type + 256u * version_minor);
 }
 
 std::vector<int32_t> BreadthFirstOrder(const MeshTopology& topology) {

@@ -9,13 +9,17 @@
 #include <span>
 #include <vector>
 
+#include "bitstream/format.h"
 #include "dmc/topology.h"
 #include "entropy/adaptive_bit.h"
 
 namespace dmc::format {
 
-// XXH32 of a chunk payload, seeded with the chunk type value.
-uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload);
+// XXH32 of a chunk payload, seeded with chunk_type + 256 · version_minor (the stream's, §4.2):
+// 1.0 streams seed with the type alone, and a stream whose minor version byte was changed fails
+// every checksum instead of being read with another version's syntax.
+uint32_t ChunkChecksum(uint8_t chunk_type, std::span<const uint8_t> payload,
+                       uint8_t version_minor = kVersionMinor);
 
 // Vertex coding order: breadth-first search over one-rings (neighbours in ascending index order),
 // starting from the lowest-index unvisited vertex, until every vertex is visited.

@@ -80,7 +80,7 @@ StatusOr<std::vector<RawChunk>> SplitChunks(std::span<const uint8_t> stream, int
     DMC_RETURN_IF_ERROR(reader.GetBytes(size, &payload, where + " payload"));
     uint32_t checksum = 0;
     DMC_RETURN_IF_ERROR(reader.GetU32(&checksum, where + " checksum"));
-    if (checksum != format::ChunkChecksum(type, payload)) {
+    if (checksum != format::ChunkChecksum(type, payload, version_minor)) {
       return CorruptStreamError(where + " (" + ChunkName(type) + ") fails its checksum");
     }
     chunks.push_back({type, static_cast<size_t>(payload.data() - stream.data()), payload.size(),
@@ -194,11 +194,10 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
       DMC_RETURN_IF_ERROR(expect(base + k, kSegmentChunkOrder[k]));
       refs.push_back({chunks[base + k].type, chunks[base + k].offset, chunks[base + k].size});
     }
-    DMC_ASSIGN_OR_RETURN(
-        format::SegmentHeader seg,
-        syntax::ReadSegmentHeader(payload(chunks[base]), next_frame,
-                                  header.frame_count - next_frame, header.vertex_count,
-                                  static_cast<uint8_t>(info_.version_minor)));
+    DMC_ASSIGN_OR_RETURN(format::SegmentHeader seg,
+                         syntax::ReadSegmentHeader(
+                             payload(chunks[base]), next_frame, header.frame_count - next_frame,
+                             header.vertex_count, static_cast<uint8_t>(info_.version_minor)));
     DMC_RETURN_IF_ERROR(syntax::CheckPayloadCapacity(
                             seg, header.vertex_count,
                             {chunks[base + 1].size, chunks[base + 2].size, chunks[base + 3].size,
@@ -229,10 +228,9 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
     return CorruptStreamError("segments cover " + std::to_string(next_frame) + " of " +
                               std::to_string(header.frame_count) + " frames");
   }
-  DMC_ASSIGN_OR_RETURN(triangles_,
-                       DecodeConnectivity(payload(chunks[1]), header.vertex_count,
-                                          header.triangle_count,
-                                          static_cast<uint8_t>(info_.version_minor)));
+  DMC_ASSIGN_OR_RETURN(
+      triangles_, DecodeConnectivity(payload(chunks[1]), header.vertex_count, header.triangle_count,
+                                     static_cast<uint8_t>(info_.version_minor)));
   if (options != nullptr) {
     topology_ = BuildTopology(triangles_, static_cast<int>(header.vertex_count));
     vertex_order_ = format::BreadthFirstOrder(topology_);

@@ -17,9 +17,10 @@ namespace dmc::syntax {
 StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> payload);
 // `frames_left`: frames of the sequence not yet covered by earlier segments. `version_minor`, the
 // stream's (preamble), is kept in the header: the payload readers below follow its syntax.
-StatusOr<format::SegmentHeader> ReadSegmentHeader(
-    std::span<const uint8_t> payload, uint32_t expected_first_frame, uint32_t frames_left,
-    uint32_t vertex_count, uint8_t version_minor = format::kVersionMinor);
+StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,
+                                                  uint32_t expected_first_frame,
+                                                  uint32_t frames_left, uint32_t vertex_count,
+                                                  uint8_t version_minor = format::kVersionMinor);
 // corrupt-stream unless each of the segment's range-coded payloads (given by their byte sizes) can
 // hold the fewest decisions its header makes it code (spec §8.7): 3·F' for the mean, r·(1 + 3·F')
 // for the basis, 3·V for a reference frame, A·(1 + r) for the anchors, V·r for the residuals.

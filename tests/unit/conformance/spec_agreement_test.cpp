@@ -151,7 +151,8 @@ std::string SpecChunkColumn(OperatorSideInfo side_info) {
   return "?";
 }
 
-// The spec's "Codec operator in 1.0 and 1.1" and "Operator chunk" columns are kOperatorTraits' rows.
+// The spec's "Codec operator in 1.0 and 1.1" and "Operator chunk" columns are kOperatorTraits'
+// rows.
 TEST_F(SpecAgreement, OperatorColumnsMatchTheTraitsTable) {
   const auto rows = SpecTable(spec(), "operator");
   ASSERT_FALSE(rows.empty());

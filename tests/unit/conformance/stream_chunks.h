@@ -49,7 +49,7 @@ inline std::vector<uint8_t> JoinChunks(const std::vector<uint8_t>& preamble,
     out.PutU8(chunk.type);
     out.PutVarU(chunk.payload.size());
     out.PutBytes(chunk.payload);
-    out.PutU32(format::ChunkChecksum(chunk.type, chunk.payload));
+    out.PutU32(format::ChunkChecksum(chunk.type, chunk.payload, preamble.at(5)));
   }
   return out.Take();
 }
