@@ -18,9 +18,10 @@
 // on malformed files (an OBJ "v 1 2" line is silently dropped, shifting every later index; an OFF
 // or ASCII PLY token "abc" or a truncated face list yields uninitialised or repeated values), and
 // OpenMesh's default importer drops faces with a repeated corner and re-creates vertices of
-// non-manifold faces at the end. So OBJ, OFF and ASCII PLY are parsed by small strict parsers here,
-// and binary PLY (where OpenMesh does detect truncation) goes through OpenMesh's PLY reader with an
-// importer that records vertices and faces verbatim. The OBJ writer of OpenMesh prints fixed-point
+// non-manifold faces at the end. Its binary PLY reader does not stop at the end of its input and
+// tokenises the header differently from any strict parser, so a hostile file could make it
+// allocate gigabytes. So every format is parsed by a small strict parser here, and OpenMesh is
+// only the tests' oracle on well-formed files. The OBJ writer of OpenMesh prints fixed-point
 // with 9 decimals, which loses small values, so the writers are ours too.
 #pragma once
 

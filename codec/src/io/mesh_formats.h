@@ -2,8 +2,7 @@
 //
 // Parsers take the whole file content in memory and report errors as "line N: ..." (text formats)
 // or a plain description (binary); ReadMeshFile prefixes the path. They are re-entrant and safe to
-// call from several threads at once, except the binary PLY path, which serialises its use of
-// OpenMesh's (stateful, singleton) PLY reader behind a mutex.
+// call from several threads at once.
 #pragma once
 
 #include <fmt/format.h>

@@ -1,17 +1,11 @@
-// PLY: the header is parsed here (it decides the path and gives the declared counts); ASCII bodies
-// are parsed strictly here; binary bodies (little or big endian) are read by OpenMesh's PLY reader
-// through VerbatimImporter, then checked against the header's counts.
+// PLY: the header is parsed here (it decides the path and gives the declared counts), and so are
+// the bodies, ASCII and binary (little or big endian), strictly and with the header's layout.
 #include <fmt/format.h>
 
-#include <OpenMesh/Core/IO/IOManager.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
-#include <mutex>
-#include <sstream>
 #include <string>
 
 #include "io/mesh_formats.h"
@@ -34,6 +28,7 @@ struct PlyProperty {
   std::string name;
   PlyNumber value_kind = PlyNumber::kReal;
   int value_bytes = 4;
+  bool value_signed = true;
   bool is_list = false;  // the count of a list is always an integer
   PlyType count_type;    // only for lists
 };
@@ -125,6 +120,7 @@ Status ParsePropertyLine(TokenReader& tokens, int line_number, PlyHeader& header
   const PlyType value_type = TypeOf(type);
   property.value_kind = value_type.kind;
   property.value_bytes = value_type.bytes;
+  property.value_signed = value_type.is_signed;
   if (property.value_kind == PlyNumber::kUnknown || !tokens.Next(name)) {
     return LineError(line_number, "expected 'property <type> <name>' with a PLY type");
   }
@@ -153,8 +149,9 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
   bool have_format = false;
   while (true) {
     if (!lines.Next(line)) return ParseError("the header has no 'end_header' line");
-    // Control characters inside a header line (a stray '\r', say) are rejected here: OpenMesh's
-    // binary reader tokenises them differently from us and can loop forever on such a header.
+    // Control characters inside a header line (a stray '\r', say) are rejected: other readers
+    // tokenise them differently (OpenMesh's as white space), so the file means different things
+    // to different programs.
     for (const char c : line) {
       if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
         return LineError(lines.line_number(), "control character in the PLY header");
@@ -180,6 +177,12 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
     }
   }
   if (!have_format) return ParseError("the header has no 'format' line");
+  for (const std::string_view name : {"vertex", "face"}) {
+    if (std::count_if(header.elements.begin(), header.elements.end(),
+                      [&](const PlyElement& element) { return element.name == name; }) > 1) {
+      return ParseError("the header declares element '" + std::string(name) + "' more than once");
+    }
+  }
   for (const PlyElement& element : header.elements) {
     // Such an element occupies no bytes, so its count is not bounded by the file's size.
     if (element.count > 0 && element.properties.empty()) {
@@ -316,135 +319,73 @@ StatusOr<MeshFileData> ParseAsciiBody(std::string_view body, const PlyHeader& he
   return mesh;
 }
 
-// Collects what OpenMesh's readers report, in call order, without building connectivity (so no
-// face is dropped or split and no vertex is duplicated, unlike OpenMesh's ImporterT).
-class VerbatimImporter : public OpenMesh::IO::BaseImporter {
+// A binary PLY body, read front to back with the header's byte order. Every read is preceded by
+// a check of what is left, so nothing is read past the end.
+class BinaryBody {
  public:
-  using VertexHandle = OpenMesh::VertexHandle;
-  using FaceHandle = OpenMesh::FaceHandle;
-  using HalfedgeHandle = OpenMesh::HalfedgeHandle;
-  using EdgeHandle = OpenMesh::EdgeHandle;
-  using StatusInfo = OpenMesh::Attributes::StatusInfo;
-  using Vec2f = OpenMesh::Vec2f;
-  using Vec3f = OpenMesh::Vec3f;
-  using Vec3d = OpenMesh::Vec3d;
-  using Vec4f = OpenMesh::Vec4f;
-  using Vec3uc = OpenMesh::Vec3uc;
-  using Vec4uc = OpenMesh::Vec4uc;
+  BinaryBody(std::string_view body, bool big_endian) : body_(body), big_endian_(big_endian) {}
 
-  std::vector<float> positions;
-  std::vector<std::vector<int32_t>> faces;
+  size_t remaining() const { return body_.size() - at_; }
+  void Skip(size_t bytes) { at_ += bytes; }
 
-  VertexHandle add_vertex(const Vec3f& point) override {
-    positions.insert(positions.end(), {point[0], point[1], point[2]});
-    return VertexHandle(static_cast<int>(positions.size() / 3) - 1);
-  }
-  VertexHandle add_vertex(const Vec3d& point) override {
-    return add_vertex(Vec3f(static_cast<float>(point[0]), static_cast<float>(point[1]),
-                            static_cast<float>(point[2])));
-  }
-  VertexHandle add_vertex() override { return add_vertex(Vec3f(0.0f, 0.0f, 0.0f)); }
-  void set_point(VertexHandle vertex, const Vec3f& point) override {
-    const size_t base = static_cast<size_t>(vertex.idx()) * 3;
-    if (vertex.idx() >= 0 && base + 2 < positions.size()) {
-      std::copy(point.data(), point.data() + 3, positions.begin() + base);
+  // The scalar of `type` at the cursor, as a double; the caller checked that it is there.
+  // Integers are exact: no PLY integer type is wider than 32 bits.
+  double Value(PlyNumber kind, int bytes, bool is_signed) {
+    const uint64_t raw = Raw(bytes);
+    if (kind == PlyNumber::kReal) {
+      return bytes == 8 ? std::bit_cast<double>(raw)
+                        : static_cast<double>(std::bit_cast<float>(static_cast<uint32_t>(raw)));
     }
+    if (is_signed && (raw >> (bytes * 8 - 1)) != 0) {
+      return static_cast<double>(static_cast<int64_t>(raw) - (int64_t{1} << (bytes * 8)));
+    }
+    return static_cast<double>(raw);
   }
-  FaceHandle add_face(const VHandles& corners) override {
-    std::vector<int32_t>& face = faces.emplace_back();
-    for (const VertexHandle& corner : corners) face.push_back(corner.idx());
-    return FaceHandle(static_cast<int>(faces.size()) - 1);
+  int64_t Integer(const PlyType& type) {
+    return static_cast<int64_t>(Value(PlyNumber::kInteger, type.bytes, type.is_signed));
   }
-  size_t n_vertices() const override { return positions.size() / 3; }
-  size_t n_faces() const override { return faces.size(); }
-  size_t n_edges() const override { return 0; }
 
-  // Connectivity and attributes that a mesh sequence does not keep.
-  HalfedgeHandle add_edge(VertexHandle, VertexHandle) override { return HalfedgeHandle(); }
-  FaceHandle add_face(HalfedgeHandle) override { return FaceHandle(); }
-  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec2f>&) override {}
-  void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<Vec3f>&) override {}
-  void set_face_texindex(FaceHandle, int) override {}
-  void set_halfedge(VertexHandle, HalfedgeHandle) override {}
-  void set_normal(VertexHandle, const Vec3f&) override {}
-  void set_normal(VertexHandle, const Vec3d&) override {}
-  void set_color(VertexHandle, const Vec3uc&) override {}
-  void set_color(VertexHandle, const Vec4uc&) override {}
-  void set_color(VertexHandle, const Vec3f&) override {}
-  void set_color(VertexHandle, const Vec4f&) override {}
-  void set_texcoord(VertexHandle, const Vec2f&) override {}
-  void set_status(VertexHandle, const StatusInfo&) override {}
-  void set_next(HalfedgeHandle, HalfedgeHandle) override {}
-  void set_face(HalfedgeHandle, FaceHandle) override {}
-  void request_face_texcoords2D() override {}
-  void set_texcoord(HalfedgeHandle, const Vec2f&) override {}
-  void set_texcoord(VertexHandle, const Vec3f&) override {}
-  void set_texcoord(HalfedgeHandle, const Vec3f&) override {}
-  void set_status(HalfedgeHandle, const StatusInfo&) override {}
-  void set_color(EdgeHandle, const Vec3uc&) override {}
-  void set_color(EdgeHandle, const Vec4uc&) override {}
-  void set_color(EdgeHandle, const Vec3f&) override {}
-  void set_color(EdgeHandle, const Vec4f&) override {}
-  void set_status(EdgeHandle, const StatusInfo&) override {}
-  void set_normal(FaceHandle, const Vec3f&) override {}
-  void set_normal(FaceHandle, const Vec3d&) override {}
-  void set_color(FaceHandle, const Vec3uc&) override {}
-  void set_color(FaceHandle, const Vec4uc&) override {}
-  void set_color(FaceHandle, const Vec3f&) override {}
-  void set_color(FaceHandle, const Vec4f&) override {}
-  void set_status(FaceHandle, const StatusInfo&) override {}
-  void add_texture_information(int, std::string) override {}
+ private:
+  uint64_t Raw(int bytes) {
+    uint64_t raw = 0;
+    for (int i = 0; i < bytes; ++i) {
+      const int byte_index = big_endian_ ? i : bytes - 1 - i;
+      raw = (raw << 8) | static_cast<unsigned char>(body_[at_ + static_cast<size_t>(byte_index)]);
+    }
+    at_ += static_cast<size_t>(bytes);
+    return raw;
+  }
+
+  std::string_view body_;
+  size_t at_ = 0;
+  bool big_endian_;
 };
 
-// OpenMesh's reader modules are process-wide singletons with per-read member state, so concurrent
-// reads must not overlap; its diagnostics (omerr) are muted during our call since we report our
-// own, more precise, errors.
-std::mutex& OpenMeshReaderMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
-// Reads an integer of the given PLY type at `at` in a binary body.
-int64_t ReadBinaryInteger(std::string_view body, size_t at, const PlyType& type, bool big_endian) {
-  uint64_t raw = 0;
-  for (int i = 0; i < type.bytes; ++i) {
-    const int byte_index = big_endian ? i : type.bytes - 1 - i;
-    raw = (raw << 8) | static_cast<unsigned char>(body[at + static_cast<size_t>(byte_index)]);
-  }
-  if (type.is_signed && type.bytes < 8 && (raw >> (type.bytes * 8 - 1)) != 0) {
-    return static_cast<int64_t>(raw) - (int64_t{1} << (type.bytes * 8));
-  }
-  return static_cast<int64_t>(raw);
-}
-
-// Walks the binary body with the header's layout and list counts and checks that it holds exactly
-// the declared elements. OpenMesh's reader does not stop at the end of its input: with a short
-// body it keeps adding the declared number of vertices and faces (and lists of whatever length
-// the bytes past the end decode to), so a small hostile file could make it allocate gigabytes.
-// After this walk, everything it reads is inside the body. The walk also checks the vertices'
-// double coordinates: OpenMesh rounds them to float, which makes one beyond float32 infinite (and
-// reported as "not finite"); it is named here as what it is.
-Status CheckBinaryLayout(std::string_view body, const PlyHeader& header) {
-  const bool big_endian = header.encoding == PlyEncoding::kBinaryBigEndian;
-  size_t at = 0;
+// The binary body, with the header's layout: vertex coordinates into mesh.positions (any PLY
+// type, rounded to float), face corner lists fanned into mesh.triangles, everything else skipped.
+// The body must hold exactly the declared elements. This is dmc's own reader rather than
+// OpenMesh's: OpenMesh's does not stop at the end of its input (with a short body it keeps adding
+// the declared vertices, and lists of whatever length the bytes past the end decode to) and
+// tokenises the header its own way, so any header the two read differently handed it a layout
+// nobody had checked (ply_fuzz ran it out of memory that way). One reader means one reading of
+// the header. OpenMesh stays the oracle of the tests on well-formed files.
+StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& header) {
+  BinaryBody body(bytes.substr(header.body_offset),
+                  header.encoding == PlyEncoding::kBinaryBigEndian);
+  MeshFileData mesh;
+  int64_t vertex_count = 0;
   for (const PlyElement& element : header.elements) {
+    if (element.name == "vertex") vertex_count = element.count;
+  }
+  // Grow with what is read rather than trusting the declared count with one big allocation.
+  mesh.positions.reserve(std::min<size_t>(static_cast<size_t>(vertex_count) * 3, size_t{1} << 22));
+  std::vector<int32_t> corners;
+  for (const PlyElement& element : header.elements) {
+    const bool is_vertex = element.name == "vertex";
+    const bool is_face = element.name == "face";
     for (int64_t i = 0; i < element.count; ++i) {
+      if (is_vertex) mesh.positions.resize(mesh.positions.size() + 3, 0.0f);
       for (const PlyProperty& property : element.properties) {
-        const bool double_coordinate =
-            element.name == "vertex" && !property.is_list &&
-            property.value_kind == PlyNumber::kReal && property.value_bytes == 8 &&
-            property.name.size() == 1 &&
-            std::string_view("xyz").find(property.name[0]) != std::string_view::npos;
-        if (double_coordinate && body.size() - at >= 8) {
-          const double value = std::bit_cast<double>(static_cast<uint64_t>(
-              ReadBinaryInteger(body, at, PlyType{PlyNumber::kInteger, 8, false}, big_endian)));
-          if (std::isfinite(value) && std::fabs(value) > std::numeric_limits<float>::max()) {
-            return ParseError(fmt::format(
-                "vertex {}, coordinate {}: {} is out of float32 range (at most 3.4028235e+38 in "
-                "magnitude)",
-                i, property.name, value));
-          }
-        }
         const auto truncated = [&] {
           return ParseError("the binary PLY body ends inside element '" + element.name + "' " +
                             std::to_string(i) + " of " + std::to_string(element.count) +
@@ -452,75 +393,68 @@ Status CheckBinaryLayout(std::string_view body, const PlyHeader& header) {
         };
         uint64_t values = 1;
         if (property.is_list) {
-          const size_t count_bytes = static_cast<size_t>(property.count_type.bytes);
-          if (body.size() - at < count_bytes) return truncated();
-          const int64_t count = ReadBinaryInteger(body, at, property.count_type, big_endian);
+          if (body.remaining() < static_cast<size_t>(property.count_type.bytes)) return truncated();
+          const int64_t count = body.Integer(property.count_type);
           if (count < 0) {
             return ParseError("element '" + element.name + "' " + std::to_string(i) + ": list '" +
                               property.name + "' has a negative length " + std::to_string(count));
           }
-          at += count_bytes;
           values = static_cast<uint64_t>(count);
         }
-        const uint64_t value_bytes = static_cast<uint64_t>(property.value_bytes);
-        if (values > (body.size() - at) / value_bytes) return truncated();
-        at += static_cast<size_t>(values * value_bytes);
-      }
-    }
-  }
-  if (at != body.size()) {
-    return ParseError("the binary PLY body has " + std::to_string(body.size() - at) +
-                      " byte(s) after the last declared element");
-  }
-  return Status::Ok();
-}
+        const size_t value_bytes = static_cast<size_t>(property.value_bytes);
+        if (values > body.remaining() / value_bytes) return truncated();
 
-StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& header) {
-  DMC_RETURN_IF_ERROR(CheckBinaryLayout(bytes.substr(header.body_offset), header));
-  VerbatimImporter importer;
-  bool read_ok = false;
-  {
-    std::lock_guard<std::mutex> lock(OpenMeshReaderMutex());
-    std::istringstream stream(std::string(bytes), std::ios::in | std::ios::binary);
-    OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary;
-    if (header.encoding == PlyEncoding::kBinaryBigEndian) options += OpenMesh::IO::Options::MSB;
-    const bool errors_enabled = omerr().is_enabled();
-    omerr().disable();
-    read_ok = OpenMesh::IO::IOManager().read(stream, "ply", importer, options);
-    if (errors_enabled) omerr().enable();
-  }
-  int64_t declared_vertices = 0, declared_faces = 0;
-  for (const PlyElement& element : header.elements) {
-    if (element.name == "vertex") declared_vertices = element.count;
-    if (element.name == "face") declared_faces = element.count;
-  }
-  if (!read_ok) {
-    return ParseError("the binary PLY body is truncated or malformed (OpenMesh's reader failed)");
-  }
-  if (static_cast<int64_t>(importer.n_vertices()) != declared_vertices ||
-      static_cast<int64_t>(importer.n_faces()) != declared_faces) {
-    return ParseError("the binary PLY body holds " + std::to_string(importer.n_vertices()) +
-                      " vertices and " + std::to_string(importer.n_faces()) +
-                      " faces, the header declares " + std::to_string(declared_vertices) + " and " +
-                      std::to_string(declared_faces));
-  }
-  MeshFileData mesh;
-  mesh.positions = std::move(importer.positions);
-  for (size_t f = 0; f < importer.faces.size(); ++f) {
-    const std::vector<int32_t>& face = importer.faces[f];
-    if (face.size() < 3) {
-      return ParseError("face " + std::to_string(f) + " has " + std::to_string(face.size()) +
-                        " corner(s), at least 3 are needed");
-    }
-    for (int32_t index : face) {
-      if (index < 0 || index >= declared_vertices) {
-        return ParseError("face " + std::to_string(f) + " refers to vertex " +
-                          std::to_string(index) + ", outside [0, " +
-                          std::to_string(declared_vertices) + ")");
+        int axis = -1;  // 0, 1, 2 for the vertex coordinates x, y, z
+        if (is_vertex && !property.is_list && property.name.size() == 1) {
+          const size_t found = std::string_view("xyz").find(property.name[0]);
+          if (found != std::string_view::npos) axis = static_cast<int>(found);
+        }
+        const bool is_corner_list =
+            is_face && property.is_list &&
+            (property.name == "vertex_indices" || property.name == "vertex_index");
+        if (axis >= 0) {
+          const double value =
+              body.Value(property.value_kind, property.value_bytes, property.value_signed);
+          // Rounded to float below, a double beyond float32 would become infinite (and be
+          // reported as "not finite"); it is named as what it is.
+          if (std::isfinite(value) && std::fabs(value) > std::numeric_limits<float>::max()) {
+            return ParseError(fmt::format(
+                "vertex {}, coordinate {}: {} is out of float32 range (at most 3.4028235e+38 in "
+                "magnitude)",
+                i, property.name, value));
+          }
+          mesh.positions[static_cast<size_t>(i) * 3 + static_cast<size_t>(axis)] =
+              static_cast<float>(value);
+        } else if (is_corner_list) {
+          if (property.value_kind != PlyNumber::kInteger) {
+            return ParseError("face " + std::to_string(i) + ": the corner list '" + property.name +
+                              "' has a real type, vertex indices are integers");
+          }
+          corners.clear();
+          for (uint64_t k = 0; k < values; ++k) {
+            const double index =
+                body.Value(PlyNumber::kInteger, property.value_bytes, property.value_signed);
+            if (index < 0 || index >= static_cast<double>(vertex_count)) {
+              return ParseError(fmt::format("face {} refers to vertex {}, outside [0, {})", i,
+                                            index, vertex_count));
+            }
+            corners.push_back(static_cast<int32_t>(index));
+          }
+          if (corners.size() < 3) {
+            return ParseError("face " + std::to_string(i) + " has " +
+                              std::to_string(corners.size()) + " corner(s), at least 3 are needed");
+          }
+          if (corners.size() > 3) ++mesh.polygons_triangulated;
+          AppendFan(corners, mesh);
+        } else {
+          body.Skip(static_cast<size_t>(values) * value_bytes);
+        }
       }
     }
-    if (face.size() > 3) ++mesh.polygons_triangulated;
-    AppendFan(face, mesh);
+  }
+  if (body.remaining() != 0) {
+    return ParseError("the binary PLY body has " + std::to_string(body.remaining()) +
+                      " byte(s) after the last declared element");
   }
   return mesh;
 }

@@ -269,7 +269,7 @@ INSTANTIATE_TEST_SUITE_P(
                  ErrorCode::kParseError,
                  ":8: vertex 0, coordinate z: '1e300' is out of float32 range"}));
 
-// Binary PLY bodies go through OpenMesh's reader; build one by hand.
+// A binary PLY with double coordinates, an ignored uchar and a quad, built by hand.
 std::string BinaryPly(bool big_endian, bool truncate) {
   std::string out = std::string("ply\nformat ") +
                     (big_endian ? "binary_big_endian" : "binary_little_endian") +
@@ -295,7 +295,7 @@ std::string BinaryPly(bool big_endian, bool truncate) {
   return out;
 }
 
-TEST(PlyParserTest, ReadsBinaryLittleAndBigEndianThroughOpenMesh) {
+TEST(PlyParserTest, ReadsBinaryLittleAndBigEndian) {
   for (bool big_endian : {false, true}) {
     ScratchDir dir;
     auto sequence = ReadText(dir, "binary.ply", BinaryPly(big_endian, false));
@@ -371,8 +371,8 @@ TEST(PlyParserTest, RejectsTruncatedBinary) {
               HasSubstr("cut.ply: the binary PLY body ends inside element 'face' 1 of 2"));
 }
 
-// Hostile binary headers: OpenMesh's reader would keep reading past the body's end, so each of
-// these must be refused before it runs, with an error naming the problem.
+// Hostile binary headers: each declares more than the body holds, or something that no layout
+// can hold, and must be refused before anything is allocated for it, with an error naming it.
 struct HostileBinaryPly {
   std::string header_and_body;
   std::string expected_message;
@@ -415,7 +415,65 @@ INSTANTIATE_TEST_SUITE_P(
             kBinaryVertexHeader + "element face 600000000\nend_header\n" + std::string(12, '\0'),
             "element 'face' declares 600000000 entries but no properties"},
         HostileBinaryPly{kBinaryVertexHeader + "end_header\n" + std::string(13, '\0'),
-                         "1 byte(s) after the last declared element"}));
+                         "1 byte(s) after the last declared element"},
+        HostileBinaryPly{
+            kBinaryVertexHeader +
+                "element face 1\nproperty list uchar uint vertex_indices\nend_header\n" +
+                std::string(12, '\0') + std::string("\x03\0\0\0\0\0\0\0\0\xff\xff\xff\xff", 13),
+            "face 0 refers to vertex 4294967295, outside [0, 1)"},
+        HostileBinaryPly{
+            kBinaryVertexHeader +
+                "element face 1\nproperty list uchar float vertex_indices\nend_header\n" +
+                std::string(12, '\0') + std::string("\x03", 1) + std::string(12, '\0'),
+            "face 0: the corner list 'vertex_indices' has a real type"},
+        HostileBinaryPly{
+            kBinaryVertexHeader +
+                "element face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+                std::string(12, '\0') + std::string("\x02", 1) + std::string(8, '\0'),
+            "face 0 has 2 corner(s), at least 3 are needed"},
+        // Two vertex elements: which one the faces index is anybody's guess.
+        HostileBinaryPly{kBinaryVertexHeader + "element vertex 1\nproperty float x\nend_header\n" +
+                             std::string(16, '\0'),
+                         "the header declares element 'vertex' more than once"}));
+
+// Every PLY scalar type as a coordinate, both byte orders: integers are converted exactly, a
+// signed byte keeps its sign, float is taken as is.
+TEST(PlyParserTest, ReadsEveryScalarTypeAsACoordinate) {
+  struct Case {
+    std::string type;
+    std::string little_endian_bytes;
+    float expected;
+  };
+  const std::vector<Case> cases = {
+      {"char", "\xfe", -2.0f},
+      {"uchar", "\xfe", 254.0f},
+      {"short", std::string("\x00\x80", 2), -32768.0f},
+      {"ushort", std::string("\x00\x80", 2), 32768.0f},
+      {"int", std::string("\xff\xff\xff\xff", 4), -1.0f},
+      {"uint32", std::string("\xff\xff\xff\xff", 4), 4294967295.0f},
+      {"float32", std::string("\x00\x00\xc0\x3f", 4), 1.5f},
+      {"float64", std::string("\x00\x00\x00\x00\x00\x00\x04\xc0", 8), -2.5f},
+  };
+  for (const Case& c : cases) {
+    for (bool big_endian : {false, true}) {
+      std::string value = c.little_endian_bytes;
+      if (big_endian) std::reverse(value.begin(), value.end());
+      const std::string ply = std::string("ply\nformat ") +
+                              (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                              " 1.0\nelement vertex 1\nproperty " + c.type + " x\nproperty " +
+                              c.type + " y\nproperty " + c.type +
+                              " z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                              "end_header\n" +
+                              value + value + value + "\x03" + std::string(12, '\0');
+      ScratchDir dir;
+      auto sequence = ReadText(dir, "types.ply", ply);
+      ASSERT_TRUE(sequence.ok()) << c.type << ": " << sequence.status().ToString();
+      for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ(sequence->frame(0)(0, axis), c.expected) << c.type << " big " << big_endian;
+      }
+    }
+  }
+}
 
 }  // namespace
 }  // namespace dmc

@@ -105,6 +105,37 @@ TEST(SharedDataTest, AgreesWithOpenMeshOnAWellFormedFile) {
   }
 }
 
+// dmc's binary PLY reader against OpenMesh's writer: the samba frame written by OpenMesh as a
+// binary PLY, in both byte orders, must come back as OpenMesh holds it.
+TEST(SharedDataTest, ReadsTheBinaryPlyOpenMeshWrites) {
+  DMC_REQUIRE_SHARED_DATA(file, "samba/mesh_0000.obj");
+  OpenMesh::PolyMesh_ArrayKernelT<> mesh;
+  ASSERT_TRUE(OpenMesh::IO::read_mesh(mesh, file.string()));
+  for (bool big_endian : {false, true}) {
+    testing::ScratchDir dir;
+    const std::filesystem::path ply = dir / "samba.ply";
+    OpenMesh::IO::Options options = OpenMesh::IO::Options::Binary;
+    if (big_endian) options += OpenMesh::IO::Options::MSB;
+    ASSERT_TRUE(OpenMesh::IO::write_mesh(mesh, ply.string(), options));
+    auto sequence = ReadSequence(ply);
+    ASSERT_TRUE(sequence.ok()) << sequence.status().ToString();
+    ASSERT_EQ(static_cast<int>(mesh.n_vertices()), sequence->vertex_count());
+    ASSERT_EQ(static_cast<int>(mesh.n_faces()), sequence->triangle_count());
+    const auto frame = sequence->frame(0);
+    for (const auto vertex : mesh.vertices()) {
+      for (int axis = 0; axis < 3; ++axis) {
+        ASSERT_EQ(mesh.point(vertex)[axis], frame(vertex.idx(), axis)) << "vertex " << vertex.idx();
+      }
+    }
+    for (const auto face : mesh.faces()) {
+      int k = 0;
+      for (const auto corner : mesh.fv_range(face)) {
+        ASSERT_EQ(corner.idx(), sequence->triangles()(face.idx(), k++)) << "face " << face.idx();
+      }
+    }
+  }
+}
+
 class PoseArchiveTest : public ::testing::TestWithParam<std::pair<std::string, int>> {};
 
 // The Sumner archives use "vn" lines and "f v//vn" faces; all ten poses share the connectivity.
