@@ -26,9 +26,7 @@ struct PlyType {
 
 struct PlyProperty {
   std::string name;
-  PlyNumber value_kind = PlyNumber::kReal;
-  int value_bytes = 4;
-  bool value_signed = true;
+  PlyType value_type = {PlyNumber::kReal, 4, true};
   bool is_list = false;  // the count of a list is always an integer
   PlyType count_type;    // only for lists
 };
@@ -117,11 +115,8 @@ Status ParsePropertyLine(TokenReader& tokens, int line_number, PlyHeader& header
       return LineError(line_number, "expected 'property list <integer type> <type> <name>'");
     }
   }
-  const PlyType value_type = TypeOf(type);
-  property.value_kind = value_type.kind;
-  property.value_bytes = value_type.bytes;
-  property.value_signed = value_type.is_signed;
-  if (property.value_kind == PlyNumber::kUnknown || !tokens.Next(name)) {
+  property.value_type = TypeOf(type);
+  if (property.value_type.kind == PlyNumber::kUnknown || !tokens.Next(name)) {
     return LineError(line_number, "expected 'property <type> <name>' with a PLY type");
   }
   property.name = std::string(name);
@@ -195,6 +190,25 @@ StatusOr<PlyHeader> ParsePlyHeader(std::string_view bytes) {
   return header;
 }
 
+// What both body parsers take from a property: the vertex coordinate it holds (0, 1, 2 for x, y,
+// z; -1 for none), or whether it is a face's corner list.
+int CoordinateAxis(const PlyElement& element, const PlyProperty& property) {
+  if (element.name != "vertex" || property.is_list || property.name.size() != 1) return -1;
+  const size_t found = std::string_view("xyz").find(property.name[0]);
+  return found == std::string_view::npos ? -1 : static_cast<int>(found);
+}
+bool IsCornerList(const PlyElement& element, const PlyProperty& property) {
+  return element.name == "face" && property.is_list &&
+         (property.name == "vertex_indices" || property.name == "vertex_index");
+}
+int64_t DeclaredVertexCount(const PlyHeader& header) {
+  int64_t count = 0;
+  for (const PlyElement& element : header.elements) {
+    if (element.name == "vertex") count = element.count;
+  }
+  return count;
+}
+
 // Tokens of an ASCII body, across lines, with the line each came from.
 class BodyTokens {
  public:
@@ -223,8 +237,6 @@ class BodyTokens {
 Status ParseAsciiProperty(BodyTokens& tokens, const PlyElement& element, int64_t index,
                           const PlyProperty& property, int64_t vertex_count,
                           std::vector<int32_t>& corners, MeshFileData& mesh) {
-  const bool is_vertex = element.name == "vertex";
-  const bool is_face = element.name == "face";
   std::string_view token;
   int64_t values = 1;
   if (property.is_list) {
@@ -237,14 +249,8 @@ Status ParseAsciiProperty(BodyTokens& tokens, const PlyElement& element, int64_t
                                           property.name + "' is not a non-negative integer");
     }
   }
-  const bool is_corner_list =
-      is_face && property.is_list &&
-      (property.name == "vertex_indices" || property.name == "vertex_index");
-  int axis = -1;  // 0, 1, 2 for the vertex coordinates x, y, z
-  if (is_vertex && !property.is_list && property.name.size() == 1) {
-    const size_t found = std::string_view("xyz").find(property.name[0]);
-    if (found != std::string_view::npos) axis = static_cast<int>(found);
-  }
+  const bool is_corner_list = IsCornerList(element, property);
+  const int axis = CoordinateAxis(element, property);
   for (int64_t k = 0; k < values; ++k) {
     if (!tokens.Next(token)) {
       return ParseError("the body ends inside element '" + element.name + "' " +
@@ -258,7 +264,7 @@ Status ParseAsciiProperty(BodyTokens& tokens, const PlyElement& element, int64_t
         return LineError(tokens.line(), CoordinateProblem(token, parsed, index, axis));
       }
       ok = true;
-    } else if (property.value_kind == PlyNumber::kInteger) {
+    } else if (property.value_type.kind == PlyNumber::kInteger) {
       int64_t value = 0;
       ok = ParseNumber(token, value);
       if (ok && is_corner_list) {
@@ -277,7 +283,7 @@ Status ParseAsciiProperty(BodyTokens& tokens, const PlyElement& element, int64_t
       return LineError(
           tokens.line(),
           "value " + Quote(token) + " of property '" + property.name + "' is not " +
-              (property.value_kind == PlyNumber::kInteger ? "an integer" : "a number"));
+              (property.value_type.kind == PlyNumber::kInteger ? "an integer" : "a number"));
     }
   }
   if (is_corner_list) {
@@ -295,10 +301,7 @@ StatusOr<MeshFileData> ParseAsciiBody(std::string_view body, const PlyHeader& he
   MeshFileData mesh;
   BodyTokens tokens(body, header.body_first_line);
   std::vector<int32_t> corners;
-  int64_t vertex_count = 0;
-  for (const PlyElement& element : header.elements) {
-    if (element.name == "vertex") vertex_count = element.count;
-  }
+  const int64_t vertex_count = DeclaredVertexCount(header);
   // Coordinates come from the file: grow with what is actually read rather than trusting the
   // declared count with one big allocation.
   mesh.positions.reserve(std::min<size_t>(static_cast<size_t>(vertex_count) * 3, size_t{1} << 22));
@@ -330,20 +333,19 @@ class BinaryBody {
 
   // The scalar of `type` at the cursor, as a double; the caller checked that it is there.
   // Integers are exact: no PLY integer type is wider than 32 bits.
-  double Value(PlyNumber kind, int bytes, bool is_signed) {
+  double Value(const PlyType& type) {
+    const int bytes = type.bytes;
     const uint64_t raw = Raw(bytes);
-    if (kind == PlyNumber::kReal) {
+    if (type.kind == PlyNumber::kReal) {
       return bytes == 8 ? std::bit_cast<double>(raw)
                         : static_cast<double>(std::bit_cast<float>(static_cast<uint32_t>(raw)));
     }
-    if (is_signed && (raw >> (bytes * 8 - 1)) != 0) {
+    if (type.is_signed && (raw >> (bytes * 8 - 1)) != 0) {
       return static_cast<double>(static_cast<int64_t>(raw) - (int64_t{1} << (bytes * 8)));
     }
     return static_cast<double>(raw);
   }
-  int64_t Integer(const PlyType& type) {
-    return static_cast<int64_t>(Value(PlyNumber::kInteger, type.bytes, type.is_signed));
-  }
+  int64_t Integer(const PlyType& type) { return static_cast<int64_t>(Value(type)); }
 
  private:
   uint64_t Raw(int bytes) {
@@ -373,16 +375,12 @@ StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& 
   BinaryBody body(bytes.substr(header.body_offset),
                   header.encoding == PlyEncoding::kBinaryBigEndian);
   MeshFileData mesh;
-  int64_t vertex_count = 0;
-  for (const PlyElement& element : header.elements) {
-    if (element.name == "vertex") vertex_count = element.count;
-  }
+  const int64_t vertex_count = DeclaredVertexCount(header);
   // Grow with what is read rather than trusting the declared count with one big allocation.
   mesh.positions.reserve(std::min<size_t>(static_cast<size_t>(vertex_count) * 3, size_t{1} << 22));
   std::vector<int32_t> corners;
   for (const PlyElement& element : header.elements) {
     const bool is_vertex = element.name == "vertex";
-    const bool is_face = element.name == "face";
     for (int64_t i = 0; i < element.count; ++i) {
       if (is_vertex) mesh.positions.resize(mesh.positions.size() + 3, 0.0f);
       for (const PlyProperty& property : element.properties) {
@@ -401,20 +399,12 @@ StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& 
           }
           values = static_cast<uint64_t>(count);
         }
-        const size_t value_bytes = static_cast<size_t>(property.value_bytes);
+        const size_t value_bytes = static_cast<size_t>(property.value_type.bytes);
         if (values > body.remaining() / value_bytes) return truncated();
 
-        int axis = -1;  // 0, 1, 2 for the vertex coordinates x, y, z
-        if (is_vertex && !property.is_list && property.name.size() == 1) {
-          const size_t found = std::string_view("xyz").find(property.name[0]);
-          if (found != std::string_view::npos) axis = static_cast<int>(found);
-        }
-        const bool is_corner_list =
-            is_face && property.is_list &&
-            (property.name == "vertex_indices" || property.name == "vertex_index");
+        const int axis = CoordinateAxis(element, property);
         if (axis >= 0) {
-          const double value =
-              body.Value(property.value_kind, property.value_bytes, property.value_signed);
+          const double value = body.Value(property.value_type);
           // Rounded to float below, a double beyond float32 would become infinite (and be
           // reported as "not finite"); it is named as what it is.
           if (std::isfinite(value) && std::fabs(value) > std::numeric_limits<float>::max()) {
@@ -425,15 +415,14 @@ StatusOr<MeshFileData> ParseBinaryBody(std::string_view bytes, const PlyHeader& 
           }
           mesh.positions[static_cast<size_t>(i) * 3 + static_cast<size_t>(axis)] =
               static_cast<float>(value);
-        } else if (is_corner_list) {
-          if (property.value_kind != PlyNumber::kInteger) {
+        } else if (IsCornerList(element, property)) {
+          if (property.value_type.kind != PlyNumber::kInteger) {
             return ParseError("face " + std::to_string(i) + ": the corner list '" + property.name +
                               "' has a real type, vertex indices are integers");
           }
           corners.clear();
           for (uint64_t k = 0; k < values; ++k) {
-            const double index =
-                body.Value(PlyNumber::kInteger, property.value_bytes, property.value_signed);
+            const double index = body.Value(property.value_type);
             if (index < 0 || index >= static_cast<double>(vertex_count)) {
               return ParseError(fmt::format("face {} refers to vertex {}, outside [0, {})", i,
                                             index, vertex_count));
