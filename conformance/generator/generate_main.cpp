@@ -119,6 +119,30 @@ Source GridWithIsolatedVertex(int n, int frames) {
           }};
 }
 
+// An n×n grid whose columns are 16 times closer on the left than on the right (spacing growing
+// geometrically), waving in z: a mesh of uneven triangles, so step shaping gives its anchor regions
+// different steps (spec §8.5.1).
+Source GradedGrid(int n, int frames) {
+  Json description = {{"mesh", "graded grid"}, {"grid", n}, {"frames", frames}};
+  return {description, [=]() -> StatusOr<MeshSequence> {
+            MeshSequence sequence(n * n, synth::GridTriangles(n, n, synth::GridDiagonals::kUniform),
+                                  frames);
+            for (int f = 0; f < frames; ++f) {
+              for (int v = 0; v < n * n; ++v) {
+                const double u = static_cast<double>(v % n) / (n - 1);
+                const double x = (std::exp2(4.0 * u) - 1.0) / 15.0;
+                const double y = static_cast<double>(v / n) / (n - 1);
+                const double z = 0.1 * std::sin(6.0 * x + 0.4 * f) * std::cos(3.0 * y - 0.2 * f);
+                sequence.frame(f).row(v) << static_cast<float>(x), static_cast<float>(y),
+                    static_cast<float>(z);
+              }
+            }
+            sequence.name = "graded-grid";
+            sequence.frame_rate = 25.0;
+            return sequence;
+          }};
+}
+
 // Every option that can change the bytes, under its table name (dmc/encoder_options.h).
 Json OptionsJson(const EncoderOptions& options) {
   Json json = Json::object();
@@ -152,6 +176,7 @@ struct ValidVector {
   bool rank_zero = false;        // meant to cover a mean-only segment
   bool mixed_operators = false;  // meant to cover segments of different operators; otherwise
                                  // every segment has the requested operator
+  bool step_shaped = false;      // meant to cover non-zero step exponents (1.2, spec §8.5.1)
 };
 
 std::vector<ValidVector> ValidVectors() {
@@ -252,6 +277,16 @@ std::vector<ValidVector> ValidVectors() {
         Synth("twist", 200, 12, 1), options, ConnectivityMethod::kDracoWithVertexOrder, 3);
     vectors.back().mixed_operators = true;
   }
+  {
+    EncoderOptions options = Options("ddl");
+    options.step_shaping = 1.0;
+    options.anchors = 24;
+    add("graded_grid_step_shaped",
+        "step shaping (1.2): a grid of uneven cells whose 24 anchor regions have step exponents "
+        "from negative (short edges) to positive (long edges)",
+        GradedGrid(33, 10), options, ConnectivityMethod::kDracoWithVertexOrder);
+    vectors.back().step_shaped = true;
+  }
   return vectors;
 }
 
@@ -312,6 +347,18 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
                          ": segment operators do not cover what the vector is "
                          "meant to (" +
                          std::to_string(operators.size()) + " distinct)");
+  }
+  if (vector.step_shaped) {
+    DMC_ASSIGN_OR_RETURN(const ParsedStream parsed, ParseStream(stream));
+    const bool positive_and_negative = std::any_of(
+        parsed.segments.begin(), parsed.segments.end(), [](const SegmentSyntax& segment) {
+          const auto& e = segment.anchor_step_exponents;
+          return std::any_of(e.begin(), e.end(), [](int8_t x) { return x < 0; }) &&
+                 std::any_of(e.begin(), e.end(), [](int8_t x) { return x > 0; });
+        });
+    if (!positive_and_negative) {
+      return InternalError(vector.name + ": no segment has both finer and coarser step regions");
+    }
   }
   DMC_RETURN_IF_ERROR(KeepOlderVersion(directory, vector.name));
 
@@ -440,15 +487,21 @@ std::vector<uint8_t> SegmentHeaderWith(const Base& base,
   return syntax::WriteSegmentHeader(header);
 }
 
-// An anchor chunk payload: ascending indices as gaps, then the quantised values (spec §8.6).
+// An anchor chunk payload of the current version: ascending indices as gaps, the step exponents
+// (`exponents`, 0 for the anchors it does not reach), then the quantised values (spec §8.5).
 std::vector<uint8_t> AnchorPayload(const std::vector<int64_t>& indices,
-                                   const std::vector<std::vector<int64_t>>& values) {
+                                   const std::vector<std::vector<int64_t>>& values,
+                                   const std::vector<int64_t>& exponents = {}) {
+  static_assert(format::kVersionMinor >= 2, "the exponents are 1.2 syntax");
   RangeEncoder encoder;
   auto contexts = std::make_unique<format::AnchorContexts>();
   int64_t previous = -1;
   for (const int64_t index : indices) {
     encoder.EncodeUnsigned(contexts->index_gap, static_cast<uint64_t>(index - previous - 1));
     previous = index;
+  }
+  for (size_t a = 0; a < indices.size(); ++a) {
+    encoder.EncodeSigned(contexts->step_exponent, a < exponents.size() ? exponents[a] : 0);
   }
   for (const auto& row : values) {
     for (size_t k = 0; k < row.size(); ++k) {
@@ -903,6 +956,14 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
     indices.back() = h.vertex_count;  // one past the last vertex
     payload_vector("anchor_index_out_of_range", "last anchor index equals the vertex count", ddl,
                    kAnchorsChunk, AnchorPayload(indices, values), kCorrupt);
+  }
+  for (const int64_t exponent : {int64_t{17}, int64_t{-17}}) {
+    std::vector<int64_t> indices;
+    std::vector<std::vector<int64_t>> values;
+    BaseAnchors(ddl, &indices, &values);
+    payload_vector(exponent > 0 ? "anchor_step_exponent_above_16" : "anchor_step_exponent_below_16",
+                   "first anchor's step exponent " + std::to_string(exponent) + " (1.2, §8.5)", ddl,
+                   kAnchorsChunk, AnchorPayload(indices, values, {exponent}), kCorrupt);
   }
   {
     // Keep only the anchors of the first anchor's component: the other components of the walker

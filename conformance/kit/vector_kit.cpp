@@ -356,14 +356,19 @@ StatusOr<SyntaxDigests> ComputeSyntaxDigests(std::span<const uint8_t> stream) {
       }
     }
     for (const int32_t anchor : syntax.anchors) digest.Add(anchor);
+    for (const int8_t exponent : syntax.anchor_step_exponents) digest.Add(exponent);  // 1.2
     for (Eigen::Index a = 0; a < syntax.anchor_values.rows(); ++a) {
       for (int k = 0; k < rank; ++k) {
         digest.Add(QuantisationIndex(syntax.anchor_values(a, k), h.anchor_step));
       }
     }
+    // 1.2: each vertex's residual step is scaled by its anchor region's factor (spec §8.5.1).
+    const std::vector<double> factors =
+        format::VertexStepFactors(parsed.topology, syntax.anchors, syntax.anchor_step_exponents);
     for (int k = 0; k < rank; ++k) {
       for (int v = 0; v < v_count; ++v) {
-        digest.Add(QuantisationIndex(syntax.delta(v, k), h.residual_step));
+        const double step = factors.empty() ? h.residual_step : h.residual_step * factors[v];
+        digest.Add(QuantisationIndex(syntax.delta(v, k), step));
       }
     }
     digests.segments.push_back(digest.Finish());

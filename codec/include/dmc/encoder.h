@@ -58,6 +58,13 @@ struct EncoderOptions {
   // zero when that lowers (error in steps)² + λ · bits; 0 = plain rounding. 0.05: measured
   // against 0, 0.1 and 0.2 on six sequences (RD.md, "Residual rounding").
   double residual_rdo_lambda = 0.05;
+  // STED-aware step shaping (format 1.2): the residual step of each anchor's region of the mesh
+  // is scaled by (its mean edge length / the mesh's geometric mean)^strength, in quarter octaves
+  // within [1/4, 4], since STED measures edge-length change relative to the edge. -1 =
+  // automatic: strength 0 for meshes of even edge lengths, rising to 1 as the spread of the
+  // logarithm of the vertices' mean edge length grows from 0.25 to 0.6 (RD.md, "Step
+  // shaping"); 0 = off (one step everywhere); > 0 = that strength (at most 2).
+  double step_shaping = -1.0;
   int segment_frames = 0;   // maximum frames per segment; 0 = default
   int reference_bits = 10;  // geometric operators: reference frame step = diagonal · 2^-bits
   int weight_bits = 7;      // DDL weight step 2^-weight_bits

@@ -13,7 +13,7 @@ namespace dmc::format {
 
 inline constexpr std::array<uint8_t, 4> kMagic = {'D', 'M', 'C', 0x1A};
 inline constexpr uint8_t kVersionMajor = 1;
-inline constexpr uint8_t kVersionMinor = 1;
+inline constexpr uint8_t kVersionMinor = 2;
 
 // Chunk types and connectivity methods are frozen wire IDs: dmc/wire_ids.h.
 using ChunkType = ::dmc::ChunkType;
@@ -36,6 +36,10 @@ inline constexpr int64_t kMaxResidualMagnitude = int64_t{1} << 40;
 inline constexpr double kMaxStep = 0x1p64;
 inline constexpr int64_t kMaxMeanMagnitude = int64_t{1} << 52;
 inline constexpr int64_t kMaxReferenceMagnitude = int64_t{1} << 40;
+// Format 1.2 step shaping (spec §8.5.1): each anchor carries a step exponent e, |e| ≤ this, and
+// the vertices of its region use the residual step times 2^(e/4).
+inline constexpr int kMaxStepExponent = 16;
+inline constexpr int kStepExponentsPerOctave = 4;
 inline constexpr double kMinAnchorWeight = 0x1p-32;
 inline constexpr double kMaxAnchorWeight = 0x1p32;
 

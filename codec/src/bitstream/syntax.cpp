@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <set>
 
 #include "dmc/operator_traits.h"
@@ -213,6 +214,64 @@ void ReferenceFramePredictor::Record(int v, const std::array<int64_t, 3>& values
   values_[v] = values;
   coded_[v] = 1;
   previous_ = values;
+}
+
+double StepFactor(int exponent) {
+  // 2^(j/4) rounded to the nearest double, j = 0..3 (spec §8.5.1).
+  static constexpr double kQuarterPowers[kStepExponentsPerOctave] = {
+      0x1.0000000000000p+0, 0x1.306fe0a31b715p+0, 0x1.6a09e667f3bcdp+0, 0x1.ae89f995ad3adp+0};
+  const int octave = exponent >= 0
+                         ? exponent / kStepExponentsPerOctave
+                         : -((-exponent + kStepExponentsPerOctave - 1) / kStepExponentsPerOctave);
+  return std::ldexp(kQuarterPowers[exponent - octave * kStepExponentsPerOctave], octave);
+}
+
+std::vector<int32_t> AnchorRegions(const MeshTopology& topology, std::span<const int32_t> anchors) {
+  const int v_count = topology.vertex_count;
+  std::vector<int32_t> owner(v_count, -1);
+  std::vector<uint8_t> settled(v_count, 0);  // reached at an earlier level
+  std::vector<int32_t> frontier, next;
+  for (size_t a = 0; a < anchors.size(); ++a) {
+    const int32_t v = anchors[a];
+    if (v < 0 || v >= v_count || owner[v] >= 0) continue;
+    owner[v] = static_cast<int32_t>(a);
+    settled[v] = 1;
+    frontier.push_back(v);
+  }
+  // Level by level, so that a vertex reached from several anchors at the same distance takes
+  // the first listed whatever the order of the rings.
+  while (!frontier.empty()) {
+    next.clear();
+    for (const int32_t v : frontier) {
+      for (int k = topology.ring_offsets[v]; k < topology.ring_offsets[v + 1]; ++k) {
+        const int32_t u = topology.ring_neighbors[k];
+        if (settled[u]) continue;
+        if (owner[u] < 0) {
+          owner[u] = owner[v];
+          next.push_back(u);
+        } else {
+          owner[u] = std::min(owner[u], owner[v]);
+        }
+      }
+    }
+    for (const int32_t u : next) settled[u] = 1;
+    frontier.swap(next);
+  }
+  return owner;
+}
+
+std::vector<double> VertexStepFactors(const MeshTopology& topology,
+                                      std::span<const int32_t> anchors,
+                                      std::span<const int8_t> exponents) {
+  if (std::all_of(exponents.begin(), exponents.end(), [](int8_t e) { return e == 0; })) return {};
+  const std::vector<int32_t> owner = AnchorRegions(topology, anchors);
+  std::vector<double> factor(owner.size(), 1.0);
+  for (size_t v = 0; v < owner.size(); ++v) {
+    if (owner[v] >= 0 && static_cast<size_t>(owner[v]) < exponents.size()) {
+      factor[v] = StepFactor(exponents[owner[v]]);
+    }
+  }
+  return factor;
 }
 
 }  // namespace dmc::format

@@ -194,7 +194,22 @@ struct WeightContexts {
 struct AnchorContexts {
   IntegerContexts index_gap;
   IntegerContexts value[kBasisColumnGroups];
+  IntegerContexts step_exponent;  // 1.2
 };
+
+// Format 1.2 step shaping (spec §8.5.1). 2^(e / kStepExponentsPerOctave) for |e| ≤
+// kMaxStepExponent, the same double on every platform (a frozen table scaled by a power of two).
+double StepFactor(int exponent);
+// The residual step factor of every vertex: each vertex belongs to the region of the anchor
+// nearest to it in one-ring hops (ties: the anchor listed first) and takes that anchor's factor;
+// a vertex no anchor reaches takes 1. Which anchor owns a vertex does not depend on the ring
+// order. Empty when every exponent is 0 (every factor 1, as in streams before 1.2).
+std::vector<double> VertexStepFactors(const MeshTopology& topology,
+                                      std::span<const int32_t> anchors,
+                                      std::span<const int8_t> exponents);
+// The anchor owning each vertex under that rule, -1 for a vertex no anchor reaches (as positions
+// in `anchors`). The encoder uses it to fit the exponents.
+std::vector<int32_t> AnchorRegions(const MeshTopology& topology, std::span<const int32_t> anchors);
 
 // Whether a segment may name `operator_id`, and whether its operator chunk then carries a
 // reference frame: the codec() and geometric() of its kOperatorTraits row (dmc/operator_traits.h).

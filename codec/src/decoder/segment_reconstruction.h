@@ -21,8 +21,9 @@ struct SegmentSyntax {
   FramePositionsD reference_frame;    // geometric operators: decoded reference frame (V×3)
   std::vector<int64_t> edge_weights;  // DDL: integer weights per edge (units 2^-weight_bits)
   std::vector<int32_t> anchors;       // ascending vertex indices
-  Eigen::MatrixXd anchor_values;      // anchors × r dequantised coefficients
-  Eigen::MatrixXd delta;              // V × r dequantised delta-trajectories
+  std::vector<int8_t> anchor_step_exponents;  // 1.2: one per anchor (§8.5.1); before 1.2 empty
+  Eigen::MatrixXd anchor_values;              // anchors × r dequantised coefficients
+  Eigen::MatrixXd delta;                      // V × r dequantised delta-trajectories
 };
 
 // Rebuilds the operator the segment names (DDL from its integer weights).

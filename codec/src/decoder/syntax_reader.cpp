@@ -292,6 +292,20 @@ Status ReadAnchors(std::span<const uint8_t> payload, int vertex_count, SegmentSy
     syntax.anchors[a] = static_cast<int32_t>(index);
     previous = index;
   }
+  syntax.anchor_step_exponents.clear();
+  if (syntax.header.version_minor >= 2) {
+    syntax.anchor_step_exponents.resize(count);
+    for (int a = 0; a < count; ++a) {
+      int64_t e;
+      DMC_RETURN_IF_ERROR(decoder.DecodeSigned(contexts->step_exponent, &e));
+      if (e > format::kMaxStepExponent || e < -format::kMaxStepExponent) {
+        return CorruptStreamError("step exponent " + std::to_string(e) + " of anchor " +
+                                  std::to_string(a) + " beyond +-" +
+                                  std::to_string(format::kMaxStepExponent));
+      }
+      syntax.anchor_step_exponents[a] = static_cast<int8_t>(e);
+    }
+  }
   syntax.anchor_values.resize(count, rank);
   for (int a = 0; a < count; ++a) {
     for (int k = 0; k < rank; ++k) {
@@ -315,6 +329,9 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
   // The context of each value (format::ResidualContextSelector, shared with the writer).
   format::ResidualContextSelector selector(topology, vertex_order, syntax.header.version_minor);
   const double step = syntax.header.residual_step;
+  // Format 1.2: the step of each vertex scaled by its anchor region's factor (§8.5.1).
+  const std::vector<double> factors =
+      format::VertexStepFactors(topology, syntax.anchors, syntax.anchor_step_exponents);
   for (int k = 0; k < rank; ++k) {
     double* delta = syntax.delta.col(k).data();
     for (int i = 0; i < v_count; ++i) {
@@ -325,7 +342,8 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
         return CorruptStreamError("residual out of range");
       }
       selector.Record(k, i, value);
-      delta[vertex_order[i]] = static_cast<double>(value) * step;
+      const int32_t v = vertex_order[i];
+      delta[v] = static_cast<double>(value) * (factors.empty() ? step : step * factors[v]);
     }
     // Stop at the first column that ran past the payload: a tiny stream declaring a huge mesh
     // is reported at once instead of after decoding V × r virtual symbols.

@@ -44,6 +44,9 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
   if (!std::isfinite(o.residual_rdo_lambda) || o.residual_rdo_lambda < 0.0) {
     return bad("residual_rdo_lambda", "must be finite and >= 0");
   }
+  if (!(o.step_shaping == -1.0 || (o.step_shaping >= 0.0 && o.step_shaping <= 2.0))) {
+    return bad("step_shaping", "must be -1 (automatic) or within [0, 2]");
+  }
   if (o.segment_frames < 0 || o.segment_frames > static_cast<int>(format::kMaxSegmentFrames)) {
     return bad("segment_frames",
                in_range(0, static_cast<int>(format::kMaxSegmentFrames), o.segment_frames));

@@ -192,6 +192,7 @@ StatusOr<SegmentCoding> ChooseSegmentOperator(const MeasuredFrames& measured,
   syntax.mean = shared.mean;
   syntax.basis = shared.basis;
   syntax.anchors = shared.anchors;
+  syntax.anchor_step_exponents = shared.anchor_step_exponents;
   syntax.anchor_values = shared.anchor_values;
   // One candidate at a time (each measurement's solve, synthesis and metric run in parallel
   // within): only the best-so-far's factorisation is kept, so at most two exist at once. A
@@ -281,6 +282,7 @@ Status CheckCodingDecodes(const MeshTopology& topology, const std::vector<int32_
   syntax.edge_weights = coding.edge_weights;
   syntax.reference_frame = coding.reference_frame;
   syntax.anchors = shared.anchors;
+  syntax.anchor_step_exponents = shared.anchor_step_exponents;
   syntax.anchor_values = shared.anchor_values;
   DMC_RETURN_IF_ERROR(
       syntax::ReadResiduals(coding.residual_payload, topology, vertex_order, syntax));

@@ -30,6 +30,10 @@ constexpr EncoderOptionSpec kOptions[] = {
     {"residual_rdo_lambda", &O::residual_rdo_lambda,
      "Rate-distortion optimised residual rounding: round a value one level toward zero when "
      "that lowers (error in steps)^2 + lambda * bits; 0 = plain rounding"},
+    {"step_shaping", &O::step_shaping,
+     "STED-aware step shaping strength: each anchor region's residual step scaled by (mean edge "
+     "length / geometric mean)^strength; -1 = automatic from the mesh's edge-length spread, 0 = "
+     "off, up to 2"},
     {"segment_frames", &O::segment_frames, "Maximum frames per segment; 0 = default"},
     {"reference_bits", &O::reference_bits,
      "Geometric operators: reference frame step = diagonal * 2^-bits"},

@@ -15,6 +15,7 @@
 #include "encoder/basis_writer.h"
 #include "encoder/codec_operators.h"
 #include "encoder/operator_choice.h"
+#include "encoder/step_shaping.h"
 #include "encoder/stream_writer.h"
 #include "encoder/syntax_writer.h"
 
@@ -55,6 +56,9 @@ struct SegmentEncoder::Segment {
   format::SegmentHeader header;  // everything but the rank (and the operator the choice makes)
   std::vector<int> ranks;        // the ranks to code, highest (the plain threshold's) first
   std::vector<int32_t> anchors;
+  // 1.2: the anchors' step exponents and the vertices' step factors they imply (empty = 1).
+  std::vector<int8_t> step_exponents;
+  std::vector<double> step_factors;
   Eigen::MatrixXd mean_shape;  // V × 3: anchors, reference frames; released after the last use
   SegmentSyntax syntax;        // decoded mean, basis and anchors of the rank being coded
   std::vector<uint8_t> mean_payload;
@@ -152,6 +156,14 @@ StatusOr<SegmentEncoder::Segment> SegmentEncoder::Prepare(SegmentTrajectories tr
                                     RequestedAnchorCount(options_, segment.vertex_count));
   }
   if (segment.anchors.empty()) segment.anchors.push_back(0);
+  if (top_rank > 0) {
+    segment.step_exponents =
+        ChooseStepExponents(segment.mean_shape, topology_, segment.anchors, options_.step_shaping);
+    segment.step_factors =
+        format::VertexStepFactors(topology_, segment.anchors, segment.step_exponents);
+  } else {
+    segment.step_exponents.assign(segment.anchors.size(), 0);
+  }
   segment.header.anchor_count = static_cast<uint32_t>(segment.anchors.size());
 
   const double coarsened = std::ldexp(pca.mean.cwiseAbs().maxCoeff(), -kMeanMagnitudeBits);
@@ -251,9 +263,10 @@ StatusOr<SegmentEncoder::RankCoding> SegmentEncoder::CodeAtRank(Segment& segment
         coefficients.row(a), syntax.header.anchor_step, syntax::kMaxSignedMagnitude,
         "the coefficient of anchor " + std::to_string(a), "use a larger anchor step ratio"));
   }
-  coding.anchor_payload =
-      syntax::WriteAnchors(segment.anchors, coefficients, syntax.header, &syntax.anchor_values);
+  coding.anchor_payload = syntax::WriteAnchors(segment.anchors, coefficients, syntax.header,
+                                               &syntax.anchor_values, segment.step_exponents);
   syntax.anchors = segment.anchors;
+  syntax.anchor_step_exponents = segment.step_exponents;
   if (rank > 0 && operator_id_ == OperatorId::kDdl) {
     DMC_RETURN_IF_ERROR(
         CodeDdl(segment, coefficients, next_rank, rank == segment.ranks.front(), coding));
@@ -270,12 +283,14 @@ namespace {
 // measurement, which decodes them from the payload.
 WriteResidualsFn ResidualWriter(const MeshTopology& topology,
                                 const std::vector<int32_t>& vertex_order,
-                                const Eigen::MatrixXd& coefficients, double rdo_lambda) {
-  return [&, rdo_lambda](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
+                                const Eigen::MatrixXd& coefficients, double rdo_lambda,
+                                std::span<const double> step_factors) {
+  return [&, rdo_lambda,
+          step_factors](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
     DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
     const Eigen::MatrixXd delta = laplace.matrix * coefficients;
-    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr,
-                                  rdo_lambda);
+    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr, rdo_lambda,
+                                  step_factors);
   };
 }
 
@@ -287,8 +302,8 @@ WriteResidualsFn ResidualWriter(const MeshTopology& topology,
 StatusOr<SegmentCoding> SegmentEncoder::CodeDdlWeights(Segment& segment,
                                                        Eigen::MatrixXd& coefficients,
                                                        bool top) const {
-  const WriteResidualsFn write_residuals =
-      ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda);
+  const WriteResidualsFn write_residuals = ResidualWriter(
+      topology_, vertex_order_, coefficients, options_.residual_rdo_lambda, segment.step_factors);
   const format::SegmentHeader& header = segment.syntax.header;
   if (!top && !plan_.refit_at_every_rank) {
     return ChooseDdlWeights(segment.fitted_weights, topology_, options_, weight_prediction_, header,
@@ -326,7 +341,8 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
     for (SegmentCoding& candidate : CodeFallbackCandidates(
              syntax.header, topology_, segment.mean_shape,
              std::ldexp(diagonal_, -options_.reference_bits),
-             ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda),
+             ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda,
+                            segment.step_factors),
              only ? std::optional<OperatorId>(static_cast<OperatorId>(*only)) : std::nullopt)) {
       codings.push_back(std::move(candidate));
     }
@@ -372,10 +388,11 @@ StatusOr<SegmentCoding> SegmentEncoder::DecodableCoding(const Segment& segment, 
                                                         const Eigen::MatrixXd& coefficients) const {
   const Status decodes = CheckCodingDecodes(topology_, vertex_order_, segment.syntax, ddl);
   if (decodes.ok()) return ddl;
-  for (SegmentCoding& candidate : CodeFallbackCandidates(
-           segment.syntax.header, topology_, segment.mean_shape,
-           std::ldexp(diagonal_, -options_.reference_bits),
-           ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda))) {
+  for (SegmentCoding& candidate :
+       CodeFallbackCandidates(segment.syntax.header, topology_, segment.mean_shape,
+                              std::ldexp(diagonal_, -options_.reference_bits),
+                              ResidualWriter(topology_, vertex_order_, coefficients,
+                                             options_.residual_rdo_lambda, segment.step_factors))) {
     if (CheckCodingDecodes(topology_, vertex_order_, segment.syntax, candidate).ok()) {
       return std::move(candidate);
     }
@@ -407,9 +424,10 @@ Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
     DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(syntax.edge_weights, options_.weight_bits));
   }
   if (rank > 0) {
-    DMC_ASSIGN_OR_RETURN(coding.residual_payload,
-                         ResidualWriter(topology_, vertex_order_, coefficients,
-                                        options_.residual_rdo_lambda)(syntax));
+    DMC_ASSIGN_OR_RETURN(
+        coding.residual_payload,
+        ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda,
+                       segment.step_factors)(syntax));
   }
   coding.header = syntax.header;
   if (rank > 0 && !FactorsByConstruction(syntax.header.operator_id) && !options_.measure) {

@@ -217,7 +217,8 @@ std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const Mes
 std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
                                   const Eigen::MatrixXd& coefficients,
                                   const format::SegmentHeader& header,
-                                  Eigen::MatrixXd* decoded_values) {
+                                  Eigen::MatrixXd* decoded_values,
+                                  std::span<const int8_t> step_exponents) {
   const int rank = static_cast<int>(header.rank);
   RangeEncoder encoder;
   auto contexts = std::make_unique<format::AnchorContexts>();
@@ -225,6 +226,12 @@ std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
   for (int32_t index : anchors) {
     encoder.EncodeUnsigned(contexts->index_gap, static_cast<uint64_t>(index - previous - 1));
     previous = index;
+  }
+  if (header.version_minor >= 2) {
+    for (size_t a = 0; a < anchors.size(); ++a) {
+      encoder.EncodeSigned(contexts->step_exponent,
+                           a < step_exponents.size() ? step_exponents[a] : 0);
+    }
   }
   decoded_values->resize(static_cast<Eigen::Index>(anchors.size()), rank);
   for (size_t a = 0; a < anchors.size(); ++a) {
@@ -242,7 +249,8 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
                                               const MeshTopology& topology,
                                               const std::vector<int32_t>& vertex_order,
                                               const format::SegmentHeader& header,
-                                              Eigen::MatrixXd* decoded, double rdo_lambda) {
+                                              Eigen::MatrixXd* decoded, double rdo_lambda,
+                                              std::span<const double> step_factors) {
   const int v_count = topology.vertex_count;
   const int rank = static_cast<int>(header.rank);
   if (decoded) decoded->resize(v_count, rank);
@@ -253,7 +261,9 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
   for (int k = 0; k < rank; ++k) {
     for (int i = 0; i < v_count; ++i) {
       const int v = vertex_order[i];
-      const double steps = delta(v, k) / header.residual_step;
+      const double step =
+          step_factors.empty() ? header.residual_step : header.residual_step * step_factors[v];
+      const double steps = delta(v, k) / step;
       if (!(std::abs(steps) <= static_cast<double>(format::kMaxResidualMagnitude))) {
         return UnsupportedError(
             "the residual of vertex " + std::to_string(v) + " in component " + std::to_string(k) +
@@ -265,7 +275,7 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
       const int64_t q = RdoLevel(steps, contexts, rdo_lambda);
       encoder.EncodeSigned(contexts, q);
       selector.Record(k, i, q);
-      if (decoded) (*decoded)(v, k) = static_cast<double>(q) * header.residual_step;
+      if (decoded) (*decoded)(v, k) = static_cast<double>(q) * step;
     }
   }
   return encoder.Finish();

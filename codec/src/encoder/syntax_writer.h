@@ -73,10 +73,13 @@ std::vector<uint8_t> WriteReferenceFrame(const FramePositionsD& frame, const Mes
 // Codes ascending anchor indices and their coefficients quantised with header.anchor_step;
 // returns the dequantised anchor coefficients. The anchors' coefficients must pass
 // CheckQuantisedRange(·, anchor_step, kMaxSignedMagnitude).
+// In a 1.2 stream (header.version_minor ≥ 2) the anchors' step exponents (one per anchor, |e| ≤
+// format::kMaxStepExponent) follow the indices; before 1.2 they must be empty.
 std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
                                   const Eigen::MatrixXd& coefficients,
                                   const format::SegmentHeader& header,
-                                  Eigen::MatrixXd* decoded_values);
+                                  Eigen::MatrixXd* decoded_values,
+                                  std::span<const int8_t> step_exponents = {});
 
 // Quantises delta-trajectories (V×r) with header.residual_step and codes them column by column
 // in `vertex_order`; stores the dequantised deltas in `decoded` unless it is null (the decoder's
@@ -85,10 +88,12 @@ std::vector<uint8_t> WriteAnchors(const std::vector<int32_t>& anchors,
 // near-degenerate geometry enormously, with a very fine step), since no decoder would accept the
 // stream. `rdo_lambda` > 0 rounds each value by rate–distortion (RdoLevel, encoder/bit_cost.h):
 // the decoder is unaffected, `decoded` holds the levels chosen.
+// `step_factors` (format::VertexStepFactors; empty = 1 everywhere) scale the step per vertex.
 StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
                                               const MeshTopology& topology,
                                               const std::vector<int32_t>& vertex_order,
                                               const format::SegmentHeader& header,
-                                              Eigen::MatrixXd* decoded, double rdo_lambda = 0.0);
+                                              Eigen::MatrixXd* decoded, double rdo_lambda = 0.0,
+                                              std::span<const double> step_factors = {});
 
 }  // namespace dmc::syntax
