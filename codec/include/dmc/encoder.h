@@ -36,8 +36,8 @@ struct EncoderOptions {
   // ranks coded with the operator, weights and factorisation the top rank chose, candidates
   // measured on 8 frames and those that rate alone rules out not measured; 3-7 measure on more
   // frames and refit or retry the operators per rank; 8 = every candidate rank and operator
-  // fitted and measured on 32 frames (the search of the encoder before the levels existed: the
-  // same bytes); 9 = that search measured on every frame. rank, rank_search and ddl_fallback
+  // fitted and measured on 32 frames (the search of the encoder before the levels existed);
+  // 9 = that search measured on every frame. rank, rank_search and ddl_fallback
   // restrict the search at every level: a fixed rank, rank_search = false or ddl_fallback =
   // false turn that part off whatever the effort; their defaults (automatic, true, true) leave
   // it to the effort, which codes the fallback from kFallbackEffort and searches ranks from
@@ -80,8 +80,9 @@ struct EncoderOptions {
   // false = always the fitted DDL weights; true = as the effort decides (from kFallbackEffort).
   bool ddl_fallback = true;
   // With the ddl operator's fallback and an automatic rank: each segment is also coded at the
-  // ranks of 2 and 4 times rank_threshold (when they are lower), and the rank with the lowest
-  // bits · STED^0.8 (bits of the segment's payloads, STED measured as the fallback does) is kept.
+  // ranks of 1/4, 2 and 4 times rank_threshold (the first higher, the others lower, when they
+  // differ), and the rank with the lowest bits · STED^1.3 (bits of the segment's payloads, STED
+  // measured as the fallback does) is kept.
   // false = the rank of rank_threshold alone; true = as the effort decides (from
   // kRankSearchEffort).
   bool rank_search = true;

@@ -46,8 +46,8 @@ constexpr EncoderOptionSpec kOptions[] = {
      "ddl: code a segment with kirchhoff, tutte or mean-value instead when that has the lower "
      "rate at equal STED (effort >= 1); false = always the fitted weights"},
     {"rank_search", &O::rank_search,
-     "ddl with its fallback and an automatic rank: also code each segment at the lower ranks of "
-     "2 and 4 times the rank threshold and keep the lowest bits * STED^0.8 (effort >= 2); false = "
+     "ddl with its fallback and an automatic rank: also code each segment at the ranks of 1/4, 2 "
+     "and 4 times the rank threshold and keep the lowest bits * STED^1.3 (effort >= 2); false = "
      "the threshold's rank alone"},
     {"uniform_weight_prediction", &O::uniform_weight_prediction,
      "Predict DDL weights by the thesis's uniform share, not the degree reference"},

@@ -11,8 +11,9 @@
 namespace dmc {
 
 struct SearchPlan {
-  // The automatic rank's candidates as multiples of EncoderOptions::rank_threshold, the plain
-  // threshold first; {1} codes the threshold's rank alone (and always for a fixed rank).
+  // The automatic rank's candidates as multiples of EncoderOptions::rank_threshold, ascending
+  // (so the highest rank, which is coded first, comes first); {1} codes the threshold's rank
+  // alone (and always for a fixed rank).
   std::vector<double> rank_scales = {1.0};
   // ddl: also code the segment with kirchhoff, tutte and mean-value and keep the coding with the
   // lowest rate at equal STED (operator_choice.h).

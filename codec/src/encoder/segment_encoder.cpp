@@ -27,12 +27,14 @@ namespace {
 // format's 2^52 steps: the step is then 2^-51 of the largest value, at most the residual step.
 constexpr int kMeanMagnitudeBits = 51;
 
-// Ranks are compared by bits · STED^kRankStedElasticity, lowest wins. The encode ladders of samba,
-// crane and horse-gallop follow bits ∝ STED^-0.8 closely (the local slope of bpfv against ln STED
-// is about 0.8 × bpfv, from 0.2 to 1.8 bpfv), so the product is constant along a ladder and a
-// rank that lowers it lies below the ladder. The operator choice's fixed slope under-weights STED
-// at high rates: choosing ranks with it cost horse-gallop 2.9 % at STED 0.03.
-constexpr double kRankStedElasticity = 0.8;
+// Ranks are compared by bits · STED^kRankStedElasticity, lowest wins: a coding that lowers the
+// product lies below a ladder whose bits fall as STED^-kRankStedElasticity. Where the ranks
+// differ most (low STED, long captures) the ladders are steeper than they are on average (jump-full
+// 1.15 × bpfv per unit of ln STED between 0.01 and 0.02, against about 0.8 over the short
+// excerpts), and 0.8 chose too few components there: with the search's quarter threshold, 1.3
+// gave jump-full -20.9 % BD-rate (STED) against -13.6 % at 0.8 and -19.1 % at 1.1, the other
+// sequences within 0.6 points (RD.md, "Rank search").
+constexpr double kRankStedElasticity = 1.3;
 
 }  // namespace
 

@@ -1,5 +1,5 @@
 // EncoderOptions::effort: every level encodes a stream the decoder reads, the levels' search plans
-// grow as they rise, the exhaustive level is the search every encode ran before the levels existed,
+// grow as they rise, the exhaustive level searches every operator at every rank,
 // the bytes do not depend on the thread count at any level, and an effort out of range or a
 // switch the effort would not honour is refused with a message naming the option.
 #include <gtest/gtest.h>
@@ -127,7 +127,8 @@ TEST(Effort, SearchGrowsWithTheLevel) {
   EXPECT_FALSE(plans[0].fallback);
   EXPECT_TRUE(plans[kFallbackEffort].fallback);
   EXPECT_EQ(plans[kFallbackEffort].rank_scales.size(), 1u);
-  EXPECT_EQ(plans[kRankSearchEffort].rank_scales, (std::vector<double>{1.0, 2.0, 4.0}));
+  // One rank above the threshold's (a quarter of it) and two below, the highest rank first.
+  EXPECT_EQ(plans[kRankSearchEffort].rank_scales, (std::vector<double>{0.25, 1.0, 2.0, 4.0}));
   const SearchPlan& exhaustive = plans[8];
   EXPECT_TRUE(exhaustive.fallback && exhaustive.operators_at_every_rank &&
               exhaustive.refit_at_every_rank);

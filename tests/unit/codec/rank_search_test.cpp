@@ -1,6 +1,6 @@
 // The automatic rank's search (EncoderOptions::rank_search): with the ddl operator's per-segment
-// choice, each segment is also coded at the lower ranks of 2 and 4 times the rank threshold, and
-// the coding with the lowest bits · STED^0.8 is kept.
+// choice, each segment is also coded at the ranks of 1/4, 2 and 4 times the rank threshold, and
+// the coding with the lowest bits · STED^1.3 is kept.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,12 +21,12 @@ MeshSequence Blob() {
 }
 
 double BitsTimesStedPower(const EncodeReport& report) {
-  return static_cast<double>(report.bytes) * std::pow(report.distortion.sted, 0.8);
+  return static_cast<double>(report.bytes) * std::pow(report.distortion.sted, 1.3);
 }
 
-TEST(RankSearch, OnlyLowersTheRankAndNeverCostsMore) {
+TEST(RankSearch, ChangesTheRankOnlyWhenThatCostsLess) {
   const MeshSequence original = Blob();
-  int lowered = 0;
+  int changed = 0;
   for (const int bits : {8, 10, 12}) {
     EncoderOptions options;
     options.residual_bits = bits;
@@ -36,19 +36,14 @@ TEST(RankSearch, OnlyLowersTheRankAndNeverCostsMore) {
     options.rank_search = false;
     auto plain_bytes = Encode(original, options, &plain);
     ASSERT_TRUE(plain_bytes.ok()) << plain_bytes.status().ToString();
-    EXPECT_LE(searched.rank, plain.rank) << "bits " << bits;
-    if (searched.rank == plain.rank) {
-      EXPECT_EQ(*searched_bytes, *plain_bytes) << "bits " << bits;
-    } else {
-      ++lowered;
-      // The search compares payload bits without the stream's fixed parts (connectivity,
-      // headers), so the whole stream's product may differ from its choice by those bytes.
-      EXPECT_LE(BitsTimesStedPower(searched), 1.02 * BitsTimesStedPower(plain)) << "bits " << bits;
-    }
+    if (searched.rank != plain.rank) ++changed;
+    // The search compares payload bits without the stream's fixed parts (connectivity,
+    // headers), and below its top rank it reuses the top rank's operator and weights, so the
+    // whole stream's product may differ from its choice by a few percent.
+    EXPECT_LE(BitsTimesStedPower(searched), 1.03 * BitsTimesStedPower(plain)) << "bits " << bits;
   }
-  // On this animation the lower rank wins at 10 and 12 bits (fewer bytes and a lower STED:
-  // the dropped components' quantisation error outweighed what they captured).
-  EXPECT_GE(lowered, 1);
+  // On this animation another rank wins on at least one rung.
+  EXPECT_GE(changed, 1);
 }
 
 TEST(RankSearch, IsOffForAFixedRankAndForOtherOperators) {
