@@ -54,8 +54,9 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
   if (o.reference_bits < 4 || o.reference_bits > 30) {
     return bad("reference_bits", in_range(4, 30, o.reference_bits));
   }
-  if (o.weight_bits < 2 || o.weight_bits > 20) {
-    return bad("weight_bits", in_range(2, 20, o.weight_bits));
+  if (o.weight_bits != 0 && (o.weight_bits < 2 || o.weight_bits > 20)) {
+    return bad("weight_bits",
+               "must be 0 (automatic) or in [2, 20], got " + std::to_string(o.weight_bits));
   }
   if (!(o.ddl_dead_zone == 0.0 || o.ddl_dead_zone >= 0.5)) {
     return bad("ddl_dead_zone", "must be 0 (automatic) or >= 0.5");

@@ -98,9 +98,9 @@ StatusOr<SegmentCoding> ChooseDdlWeights(const std::vector<double>& fitted,
     trial.header = header;
     SegmentCoding coding;
     coding.header = header;
-    coding.operator_payload = syntax::WriteDdlWeights(fitted, topology, options.weight_bits, mode,
+    coding.operator_payload = syntax::WriteDdlWeights(fitted, topology, header.weight_bits, mode,
                                                       &trial.edge_weights, dead_zone);
-    DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(trial.edge_weights, options.weight_bits));
+    DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(trial.edge_weights, header.weight_bits));
     DMC_ASSIGN_OR_RETURN(coding.residual_payload, write_residuals(trial));
     coding.edge_weights = std::move(trial.edge_weights);
     if (!best || coding.payload_bytes() < best->payload_bytes()) best = std::move(coding);
@@ -181,6 +181,24 @@ StatusOr<SegmentCoding> ChooseSegmentOperator(const MeasuredFrames& measured,
     const bool worth = measured.meter && (choice.prune_sted_ratio <= 0.0 ||
                                           excess <= slope * std::log(choice.prune_sted_ratio));
     (worth ? measure : reserve).push_back(c);
+  }
+  // The smallest payload can come with a STED and KG far worse than the rate prune assumes:
+  // BrainStem's fitted DDL weights at 2^-8 gave 0.292 bpfv at STED 0.051 and KG 27.8, and pruned
+  // Tutte, which measures 0.370 bpfv at STED 0.037 and KG 2.8. So unless the smallest payload is
+  // an operator whose normal matrix is well conditioned by construction (kirchhoff, tutte), the
+  // smallest of those is measured too.
+  if (measured.meter && !FactorsByConstruction(codings[smallest].header.operator_id)) {
+    std::optional<size_t> safest;
+    for (const size_t c : reserve) {
+      if (FactorsByConstruction(codings[c].header.operator_id) &&
+          (!safest || codings[c].payload_bytes() < codings[*safest].payload_bytes())) {
+        safest = c;
+      }
+    }
+    if (safest) {
+      reserve.erase(std::find(reserve.begin(), reserve.end(), *safest));
+      measure.insert(std::upper_bound(measure.begin(), measure.end(), *safest), *safest);
+    }
   }
   if (measure.size() == 1 && !choice.need_sted &&
       FactorsByConstruction(codings[measure.front()].header.operator_id)) {

@@ -37,7 +37,9 @@ constexpr EncoderOptionSpec kOptions[] = {
     {"segment_frames", &O::segment_frames, "Maximum frames per segment; 0 = default"},
     {"reference_bits", &O::reference_bits,
      "Geometric operators: reference frame step = diagonal * 2^-bits"},
-    {"weight_bits", &O::weight_bits, "DDL weight step 2^-bits"},
+    {"weight_bits", &O::weight_bits,
+     "DDL weight step 2^-bits (2..20); 0 = automatic: 8 for segments of 128 frames or more, else "
+     "7"},
     {"ddl_mu", &O::ddl_mu, "DDL Tikhonov pull toward Tutte (relative)"},
     {"ddl_dead_zone", &O::ddl_dead_zone,
      "DDL weights this close to their prediction (weight units) are sent as predicted: 0.5 = "

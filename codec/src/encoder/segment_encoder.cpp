@@ -109,7 +109,7 @@ format::SegmentHeader SegmentEncoder::BaseHeader(int first_frame, int frame_coun
   h.frame_count = static_cast<uint32_t>(frame_count);
   h.operator_id = static_cast<uint8_t>(operator_id_);
   h.basis_bits = static_cast<uint8_t>(options_.basis_bits);
-  h.weight_bits = static_cast<uint8_t>(options_.weight_bits);
+  h.weight_bits = static_cast<uint8_t>(SegmentWeightBits(options_, frame_count));
   h.weight_prediction = static_cast<uint8_t>(weight_prediction_);
   h.mean_step = std::ldexp(diagonal_, -kMeanStepBits);
   h.residual_step = residual_step_;
@@ -421,9 +421,9 @@ Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
   } else if (operator_id_ == OperatorId::kDdl) {
     const std::vector<double> unused(topology_.edges.size(), 0.0);
     coding.operator_payload =
-        syntax::WriteDdlWeights(unused, topology_, options_.weight_bits, weight_prediction_,
+        syntax::WriteDdlWeights(unused, topology_, syntax.header.weight_bits, weight_prediction_,
                                 &syntax.edge_weights, std::numeric_limits<double>::infinity());
-    DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(syntax.edge_weights, options_.weight_bits));
+    DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(syntax.edge_weights, syntax.header.weight_bits));
   }
   if (rank > 0) {
     DMC_ASSIGN_OR_RETURN(
