@@ -31,9 +31,9 @@ constexpr int kMeanMagnitudeBits = 51;
 // product lies below a ladder whose bits fall as STED^-kRankStedElasticity. Where the ranks
 // differ most (low STED, long captures) the ladders are steeper than they are on average (jump-full
 // 1.15 × bpfv per unit of ln STED between 0.01 and 0.02, against about 0.8 over the short
-// excerpts), and 0.8 chose too few components there: with the search's quarter threshold, 1.3
-// gave jump-full -20.9 % BD-rate (STED) against -13.6 % at 0.8 and -19.1 % at 1.1, the other
-// sequences within 0.6 points (RD.md, "Rank search").
+// excerpts), and 0.8 chose too few components there: with the search's quarter threshold (and
+// 2^-7 weights), 1.3 gave jump-full -20.9 % BD-rate (STED) against -13.6 % at 0.8 and -19.1 % at
+// 1.1, the other sequences within 0.6 points (RD.md, "Rank search").
 constexpr double kRankStedElasticity = 1.3;
 
 }  // namespace
