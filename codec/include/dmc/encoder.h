@@ -49,10 +49,12 @@ struct EncoderOptions {
   // residual step): a component is worth its coefficients while dropping it would cost more
   // squared error than quantising it does.
   double rank_threshold = 50.0;
-  int basis_bits = 10;             // basis quantisation bits (2..16)
-  int residual_bits = 10;          // residual step = bbox diagonal * 2^-residual_bits
-  double residual_step = 0.0;      // absolute step; overrides residual_bits when > 0
-  int anchors = -1;                // anchor vertices per segment; -1 = automatic
+  int basis_bits = 10;         // basis quantisation bits (2..16)
+  int residual_bits = 10;      // residual step = bbox diagonal * 2^-residual_bits
+  double residual_step = 0.0;  // absolute step; overrides residual_bits when > 0
+  // Anchor vertices per segment; -1 = automatic: 1 % of the vertices, 2 % in segments of at least
+  // kLongSegmentFrames frames, at least 1 and at most 1000 (RD.md, "Anchors and steps").
+  int anchors = -1;
   double anchor_step_ratio = 1.0;  // anchor quantisation step / residual step
   // Rate–distortion optimised rounding of the residuals: a value may be rounded one level toward
   // zero when that lowers (error in steps)² + λ · bits; 0 = plain rounding. 0.05: measured
@@ -68,7 +70,7 @@ struct EncoderOptions {
   int segment_frames = 0;   // maximum frames per segment; 0 = default
   int reference_bits = 10;  // geometric operators: reference frame step = diagonal · 2^-bits
   // DDL weight step 2^-weight_bits per segment; 0 = automatic: 8 for segments of at least
-  // kFineWeightFrames frames, 7 below (SegmentWeightBits). The weights are paid once per segment,
+  // kLongSegmentFrames frames, 7 below (SegmentWeightBits). The weights are paid once per segment,
   // so long segments afford finer ones: jump-full (222 frames) -20.9 % BD-rate (STED) at 7 bits,
   // -27.2 % at 8, -27.8 % at 9; crane-full (175) -14.2 / -14.7 / -13.9 %; horse-gallop (48) and
   // cow (40) lose 0.4 and 0.8 points at 8 (RD.md, "DDL weights").
@@ -100,12 +102,14 @@ struct EncoderOptions {
   bool measure = true;         // decode and measure KG/STED
 };
 
+// Segments of at least this many frames pay for more side information: finer DDL weights
+// (SegmentWeightBits) and twice the anchors (encoder/anchors.h).
+inline constexpr int kLongSegmentFrames = 128;
 // EncoderOptions::weight_bits of a segment of `frame_count` frames: the option when set, else 8
-// from kFineWeightFrames frames and 7 below.
-inline constexpr int kFineWeightFrames = 128;
+// from kLongSegmentFrames frames and 7 below.
 inline int SegmentWeightBits(const EncoderOptions& options, int frame_count) {
   if (options.weight_bits != 0) return options.weight_bits;
-  return frame_count >= kFineWeightFrames ? 8 : 7;
+  return frame_count >= kLongSegmentFrames ? 8 : 7;
 }
 
 // The lowest effort that searches ranks (with an automatic rank, the ddl operator, rank_search and

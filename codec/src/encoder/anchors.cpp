@@ -11,13 +11,16 @@ namespace dmc {
 namespace {
 
 constexpr double kAnchorFraction = 0.01;
+constexpr double kLongSegmentAnchorFraction = 0.02;
 constexpr int kMaxAutomaticAnchors = 1000;
 
 }  // namespace
 
-int RequestedAnchorCount(const EncoderOptions& options, int vertex_count) {
+int RequestedAnchorCount(const EncoderOptions& options, int vertex_count, int frame_count) {
   if (options.anchors >= 0) return options.anchors;
-  return std::clamp(static_cast<int>(std::lround(kAnchorFraction * vertex_count)), 1,
+  const double fraction =
+      frame_count >= kLongSegmentFrames ? kLongSegmentAnchorFraction : kAnchorFraction;
+  return std::clamp(static_cast<int>(std::lround(fraction * vertex_count)), 1,
                     kMaxAutomaticAnchors);
 }
 

@@ -154,8 +154,9 @@ StatusOr<SegmentEncoder::Segment> SegmentEncoder::Prepare(SegmentTrajectories tr
 
   segment.mean_shape = MeanShape(trajectories);
   if (top_rank > 0) {
-    segment.anchors = ChooseAnchors(segment.mean_shape, topology_,
-                                    RequestedAnchorCount(options_, segment.vertex_count));
+    segment.anchors =
+        ChooseAnchors(segment.mean_shape, topology_,
+                      RequestedAnchorCount(options_, segment.vertex_count, frame_count));
   }
   if (segment.anchors.empty()) segment.anchors.push_back(0);
   if (top_rank > 0) {

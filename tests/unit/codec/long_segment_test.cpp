@@ -1,12 +1,14 @@
-// EncoderOptions::weight_bits: 0 (the default) chooses the DDL weight step per segment, 2^-8 for
-// segments of kFineWeightFrames frames or more and 2^-7 below; a value set is used for every
-// segment. The segment header carries the step, and every choice decodes.
+// Long segments (kLongSegmentFrames frames or more) pay for more side information by default:
+// EncoderOptions::weight_bits 0 chooses the DDL weight step per segment, 2^-8 for long segments
+// and 2^-7 below, and the automatic anchor count is 2 % of the vertices instead of 1 %. Values set
+// are used for every segment. The segment header carries both, and every choice decodes.
 #include <gtest/gtest.h>
 
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
 #include "dmc/encoder_options.h"
 #include "dmc/synth.h"
+#include "encoder/anchors.h"
 
 namespace dmc {
 namespace {
@@ -14,17 +16,28 @@ namespace {
 TEST(WeightBits, AutomaticFollowsTheSegmentLength) {
   EncoderOptions options;
   ASSERT_EQ(options.weight_bits, 0);
-  EXPECT_EQ(SegmentWeightBits(options, kFineWeightFrames - 1), 7);
-  EXPECT_EQ(SegmentWeightBits(options, kFineWeightFrames), 8);
+  EXPECT_EQ(SegmentWeightBits(options, kLongSegmentFrames - 1), 7);
+  EXPECT_EQ(SegmentWeightBits(options, kLongSegmentFrames), 8);
   EXPECT_EQ(SegmentWeightBits(options, 4096), 8);
   options.weight_bits = 5;
   EXPECT_EQ(SegmentWeightBits(options, 4096), 5);
   EXPECT_EQ(SegmentWeightBits(options, 1), 5);
 }
 
+TEST(AnchorCount, AutomaticDoublesInLongSegments) {
+  EncoderOptions options;
+  ASSERT_EQ(options.anchors, -1);
+  EXPECT_EQ(RequestedAnchorCount(options, 10000, kLongSegmentFrames - 1), 100);
+  EXPECT_EQ(RequestedAnchorCount(options, 10000, kLongSegmentFrames), 200);
+  EXPECT_EQ(RequestedAnchorCount(options, 30, kLongSegmentFrames), 1);          // at least one
+  EXPECT_EQ(RequestedAnchorCount(options, 1000000, kLongSegmentFrames), 1000);  // the cap
+  options.anchors = 7;
+  EXPECT_EQ(RequestedAnchorCount(options, 10000, kLongSegmentFrames), 7);
+}
+
 TEST(WeightBits, TheStreamCarriesEachSegmentsStep) {
   SynthOptions synth;
-  synth.frames = kFineWeightFrames + 4;
+  synth.frames = kLongSegmentFrames + 4;
   synth.resolution = 300;
   const MeshSequence original = *Synthesize("twist", synth);
   struct Case {
@@ -43,6 +56,13 @@ TEST(WeightBits, TheStreamCarriesEachSegmentsStep) {
       EXPECT_EQ(segment.operator_name, "ddl");
       EXPECT_EQ(segment.weight_bits, c.expected)
           << "weight_bits " << c.weight_bits << ", segment of " << segment.frame_count;
+      // 1 % of the vertices, 2 % in a long segment (the twist is one component: no extra anchor).
+      const bool long_segment = segment.frame_count >= kLongSegmentFrames;
+      EXPECT_GE(
+          segment.anchor_count,
+          RequestedAnchorCount(EncoderOptions(), original.vertex_count(), segment.frame_count))
+          << "segment of " << segment.frame_count;
+      EXPECT_EQ(long_segment, c.segment_frames == 0);
     }
     EXPECT_TRUE(Decode(*stream).ok());
   }
