@@ -24,7 +24,9 @@ constexpr EncoderOptionSpec kOptions[] = {
     {"basis_bits", &O::basis_bits, "Basis quantisation bits (2..16)"},
     {"residual_bits", &O::residual_bits, "Residual step = bounding-box diagonal * 2^-bits"},
     {"residual_step", &O::residual_step, "Absolute residual step; > 0 overrides the bits"},
-    {"anchors", &O::anchors, "Anchor vertices per segment; -1 = automatic"},
+    {"anchors", &O::anchors,
+     "Anchor vertices per segment; -1 = automatic: 1 % of the vertices, 2 % in segments of 128 "
+     "frames or more, at most 1000"},
     {"anchor_step_ratio", &O::anchor_step_ratio,
      "Anchor quantisation step relative to the residual step"},
     {"residual_rdo_lambda", &O::residual_rdo_lambda,
