@@ -367,8 +367,8 @@ StatusOr<SyntaxDigests> ComputeSyntaxDigests(std::span<const uint8_t> stream) {
         format::VertexStepFactors(parsed.topology, syntax.anchors, syntax.anchor_step_exponents);
     for (int k = 0; k < rank; ++k) {
       for (int v = 0; v < v_count; ++v) {
-        const double step = factors.empty() ? h.residual_step : h.residual_step * factors[v];
-        digest.Add(QuantisationIndex(syntax.delta(v, k), step));
+        digest.Add(QuantisationIndex(syntax.delta(v, k),
+                                     format::VertexResidualStep(h.residual_step, factors, v)));
       }
     }
     digests.segments.push_back(digest.Finish());

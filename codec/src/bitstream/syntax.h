@@ -207,6 +207,11 @@ double StepFactor(int exponent);
 std::vector<double> VertexStepFactors(const MeshTopology& topology,
                                       std::span<const int32_t> anchors,
                                       std::span<const int8_t> exponents);
+// The residual step of vertex v: residual_step · factors[v], or residual_step when `factors` is
+// empty. The one product the writer, the reader and the syntax digest all use (§8.6, §12.2).
+inline double VertexResidualStep(double residual_step, std::span<const double> factors, int v) {
+  return factors.empty() ? residual_step : residual_step * factors[v];
+}
 // The anchor owning each vertex under that rule, -1 for a vertex no anchor reaches (as positions
 // in `anchors`). The encoder uses it to fit the exponents.
 std::vector<int32_t> AnchorRegions(const MeshTopology& topology, std::span<const int32_t> anchors);

@@ -343,7 +343,7 @@ Status ReadResiduals(std::span<const uint8_t> payload, const MeshTopology& topol
       }
       selector.Record(k, i, value);
       const int32_t v = vertex_order[i];
-      delta[v] = static_cast<double>(value) * (factors.empty() ? step : step * factors[v]);
+      delta[v] = static_cast<double>(value) * format::VertexResidualStep(step, factors, v);
     }
     // Stop at the first column that ran past the payload: a tiny stream declaring a huge mesh
     // is reported at once instead of after decoding V × r virtual symbols.

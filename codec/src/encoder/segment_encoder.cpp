@@ -279,25 +279,21 @@ StatusOr<SegmentEncoder::RankCoding> SegmentEncoder::CodeAtRank(Segment& segment
   return coding;
 }
 
-namespace {
-
-// Codes δ = L·C for the operator `target` names, quantised with its header's step. The
-// dequantised deltas are not kept: nothing after the coding uses them but the fallback's
-// measurement, which decodes them from the payload.
-WriteResidualsFn ResidualWriter(const MeshTopology& topology,
-                                const std::vector<int32_t>& vertex_order,
-                                const Eigen::MatrixXd& coefficients, double rdo_lambda,
-                                std::span<const double> step_factors) {
-  return [&, rdo_lambda,
+// Codes δ = L·C for the operator `target` names, quantised with its header's step and the
+// segment's step factors. The dequantised deltas are not kept: nothing after the coding uses them
+// but the fallback's measurement, which decodes them from the payload. `segment` and
+// `coefficients` must outlive the writer.
+WriteResidualsFn SegmentEncoder::ResidualWriter(const Segment& segment,
+                                                const Eigen::MatrixXd& coefficients) const {
+  const std::span<const double> step_factors = segment.step_factors;
+  return [this, &coefficients,
           step_factors](const SegmentSyntax& target) -> StatusOr<std::vector<uint8_t>> {
-    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology, target));
+    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace, RebuildSegmentOperator(topology_, target));
     const Eigen::MatrixXd delta = laplace.matrix * coefficients;
-    return syntax::WriteResiduals(delta, topology, vertex_order, target.header, nullptr, rdo_lambda,
-                                  step_factors);
+    return syntax::WriteResiduals(delta, topology_, vertex_order_, target.header, nullptr,
+                                  options_.residual_rdo_lambda, step_factors);
   };
 }
-
-}  // namespace
 
 // The DDL coding: the weights fitted to these coefficients, or below the top rank without
 // SearchPlan::refit_at_every_rank the top rank's, coded (fitted or predicted, ChooseDdlWeights)
@@ -305,8 +301,7 @@ WriteResidualsFn ResidualWriter(const MeshTopology& topology,
 StatusOr<SegmentCoding> SegmentEncoder::CodeDdlWeights(Segment& segment,
                                                        Eigen::MatrixXd& coefficients,
                                                        bool top) const {
-  const WriteResidualsFn write_residuals = ResidualWriter(
-      topology_, vertex_order_, coefficients, options_.residual_rdo_lambda, segment.step_factors);
+  const WriteResidualsFn write_residuals = ResidualWriter(segment, coefficients);
   const format::SegmentHeader& header = segment.syntax.header;
   if (!top && !plan_.refit_at_every_rank) {
     return ChooseDdlWeights(segment.fitted_weights, topology_, options_, weight_prediction_, header,
@@ -343,9 +338,7 @@ Status SegmentEncoder::CodeDdl(Segment& segment, Eigen::MatrixXd& coefficients, 
   if (segment.fallback && (!only || *only != static_cast<uint8_t>(OperatorId::kDdl))) {
     for (SegmentCoding& candidate : CodeFallbackCandidates(
              syntax.header, topology_, segment.mean_shape,
-             std::ldexp(diagonal_, -options_.reference_bits),
-             ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda,
-                            segment.step_factors),
+             std::ldexp(diagonal_, -options_.reference_bits), ResidualWriter(segment, coefficients),
              only ? std::optional<OperatorId>(static_cast<OperatorId>(*only)) : std::nullopt)) {
       codings.push_back(std::move(candidate));
     }
@@ -394,8 +387,7 @@ StatusOr<SegmentCoding> SegmentEncoder::DecodableCoding(const Segment& segment, 
   for (SegmentCoding& candidate :
        CodeFallbackCandidates(segment.syntax.header, topology_, segment.mean_shape,
                               std::ldexp(diagonal_, -options_.reference_bits),
-                              ResidualWriter(topology_, vertex_order_, coefficients,
-                                             options_.residual_rdo_lambda, segment.step_factors))) {
+                              ResidualWriter(segment, coefficients))) {
     if (CheckCodingDecodes(topology_, vertex_order_, segment.syntax, candidate).ok()) {
       return std::move(candidate);
     }
@@ -427,10 +419,7 @@ Status SegmentEncoder::CodeFixedOperator(Segment& segment, int rank,
     DMC_RETURN_IF_ERROR(syntax::CheckDdlWeights(syntax.edge_weights, syntax.header.weight_bits));
   }
   if (rank > 0) {
-    DMC_ASSIGN_OR_RETURN(
-        coding.residual_payload,
-        ResidualWriter(topology_, vertex_order_, coefficients, options_.residual_rdo_lambda,
-                       segment.step_factors)(syntax));
+    DMC_ASSIGN_OR_RETURN(coding.residual_payload, ResidualWriter(segment, coefficients)(syntax));
   }
   coding.header = syntax.header;
   if (rank > 0 && !FactorsByConstruction(syntax.header.operator_id) && !options_.measure) {

@@ -63,6 +63,8 @@ class SegmentEncoder {
                                           const Eigen::MatrixXd& coefficients) const;
   Status CodeFixedOperator(Segment& segment, int rank, const Eigen::MatrixXd& coefficients,
                            RankCoding& coding) const;
+  WriteResidualsFn ResidualWriter(const Segment& segment,
+                                  const Eigen::MatrixXd& coefficients) const;
   SegmentResult AppendChunks(const Segment& segment, const RankCoding& coding,
                              ByteWriter& out) const;
 

@@ -261,8 +261,7 @@ StatusOr<std::vector<uint8_t>> WriteResiduals(const Eigen::MatrixXd& delta,
   for (int k = 0; k < rank; ++k) {
     for (int i = 0; i < v_count; ++i) {
       const int v = vertex_order[i];
-      const double step =
-          step_factors.empty() ? header.residual_step : header.residual_step * step_factors[v];
+      const double step = format::VertexResidualStep(header.residual_step, step_factors, v);
       const double steps = delta(v, k) / step;
       if (!(std::abs(steps) <= static_cast<double>(format::kMaxResidualMagnitude))) {
         return UnsupportedError(
