@@ -2,7 +2,12 @@
 // optional seam welding. The maths is summarised in gltf_format.h, the steps in
 // gltf_import_internal.h.
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
 #include <numeric>
 
 #include "io/gltf_import_internal.h"
@@ -101,6 +106,51 @@ StatusOr<int> ClipFrameCount(const Clip& clip, double frame_rate, int max_frames
 
 }  // namespace
 
+namespace {
+
+// The GLB container's JSON chunk, replaced by `json` (padded with spaces, as the spec asks); the
+// bytes unchanged when they are not a well-formed GLB (tinygltf then reports why).
+std::string ReplaceGlbJson(const std::string& glb, const std::string& json,
+                           std::string_view* json_out = nullptr) {
+  auto u32 = [&](size_t offset) {
+    uint32_t value = 0;
+    std::memcpy(&value, glb.data() + offset, 4);
+    return value;
+  };
+  if (glb.size() < 20 || u32(16) != 0x4E4F534Au) return glb;  // no JSON chunk
+  const size_t json_length = u32(12);
+  if (json_length > glb.size() - 20) return glb;
+  if (json_out != nullptr) {
+    *json_out = std::string_view(glb).substr(20, json_length);
+    return glb;
+  }
+  std::string padded = json;
+  while (padded.size() % 4 != 0) padded.push_back(' ');
+  std::string out = glb.substr(0, 12);
+  auto put = [&](uint32_t value) { out.append(reinterpret_cast<const char*>(&value), 4); };
+  put(static_cast<uint32_t>(padded.size()));
+  put(0x4E4F534Au);
+  out += padded;
+  out += glb.substr(20 + json_length);
+  const uint32_t total = static_cast<uint32_t>(out.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  return out;
+}
+
+// The whole file; kIoError naming it when it cannot be read or exceeds what tinygltf indexes.
+StatusOr<std::string> ReadWholeFile(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return IoError("cannot open " + path.string() + ": " + std::strerror(errno));
+  std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (file.bad()) return IoError("cannot read " + path.string() + ": " + std::strerror(errno));
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
+    return UnsupportedError(path.string() + ": glTF files of 4 GiB or more are not supported");
+  }
+  return bytes;
+}
+
+}  // namespace
+
 StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
   tinygltf::TinyGLTF loader;
   // dmc needs no pixels: images stay undecoded.
@@ -111,15 +161,36 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path, error)) {
     return IoError("cannot open " + path.string() + ": not a readable file");
   }
+  DMC_ASSIGN_OR_RETURN(std::string bytes, ReadWholeFile(path));
+  const bool binary = LowercaseExtension(path) == ".glb";
+  // EXT_meshopt_compression's fallback buffers hold no data, which tinygltf refuses: they get a
+  // stand-in first (gltf_extensions.cpp).
+  std::vector<gltf::FallbackBuffer> fallbacks;
+  if (bytes.find("EXT_meshopt_compression") != std::string::npos) {
+    std::string_view json = bytes;
+    if (binary) ReplaceGlbJson(bytes, {}, &json);
+    DMC_ASSIGN_OR_RETURN(std::string prepared, gltf::PrepareMeshoptFallbacks(json, fallbacks));
+    if (!fallbacks.empty()) bytes = binary ? ReplaceGlbJson(bytes, prepared) : std::move(prepared);
+  }
   tinygltf::Model model;
   std::string errors, warnings;
-  const bool ok = LowercaseExtension(path) == ".glb"
-                      ? loader.LoadBinaryFromFile(&model, &errors, &warnings, path.string())
-                      : loader.LoadASCIIFromFile(&model, &errors, &warnings, path.string());
+  const std::string base_dir = std::filesystem::absolute(path, error).parent_path().string();
+  const bool ok =
+      binary ? loader.LoadBinaryFromMemory(&model, &errors, &warnings,
+                                           reinterpret_cast<const unsigned char*>(bytes.data()),
+                                           static_cast<unsigned int>(bytes.size()), base_dir)
+             : loader.LoadASCIIFromString(&model, &errors, &warnings, bytes.data(),
+                                          static_cast<unsigned int>(bytes.size()), base_dir);
   if (!ok) {
     while (!errors.empty() && errors.back() == '\n') errors.pop_back();
     return ParseError(path.string() + ": " + (errors.empty() ? "not a glTF 2.0 file" : errors));
   }
+  const Status decoded = [&] {
+    DMC_RETURN_IF_ERROR(gltf::CheckRequiredExtensions(model));
+    DMC_RETURN_IF_ERROR(gltf::RestoreMeshoptFallbacks(model, fallbacks));
+    return gltf::DecodeCompressedGeometry(model);
+  }();
+  if (!decoded.ok()) return decoded.WithContext(path.string());
   return model;
 }
 

@@ -4,7 +4,8 @@
 //  - gltf_animation.cpp: animation channels and their keyframe sampling;
 //  - gltf_scene.cpp: node order, the triangle primitives with their morph targets and skins;
 //  - gltf_posing.cpp: one frame's node transforms, morphing and skinning;
-//  - gltf_weld.cpp: merging vertices whose trajectories coincide (seams).
+//  - gltf_weld.cpp: merging vertices whose trajectories coincide (seams);
+//  - gltf_extensions.cpp: required extensions, meshopt- and Draco-compressed geometry.
 #pragma once
 
 #include <cstdint>
@@ -161,6 +162,35 @@ class ScenePoser {
   std::vector<Matrix4> globals_;
   std::vector<std::vector<Matrix4>> joint_matrices_;
 };
+
+// ----- Extensions (gltf_extensions.cpp) --------------------------------------------------------
+
+// kUnsupported naming the first required extension that could change the geometry dmc reads and
+// that dmc does not decode (materials, textures, lights and metadata may be required).
+Status CheckRequiredExtensions(const tinygltf::Model& model);
+
+// An EXT_meshopt_compression fallback buffer: it has no data in the file, and tinygltf refuses a
+// buffer without data, so the JSON gets a one-byte stand-in until the decoded views fill it.
+struct FallbackBuffer {
+  size_t index = 0;
+  uint64_t byte_length = 0;  // as the file declares it
+};
+
+// The glTF JSON with every fallback buffer replaced by its stand-in, recorded in `fallbacks`;
+// the text unchanged when there is none (or when it is not JSON: tinygltf reports that).
+StatusOr<std::string> PrepareMeshoptFallbacks(std::string_view json_text,
+                                              std::vector<FallbackBuffer>& fallbacks);
+
+// Gives every fallback buffer its declared size (zeros), refusing sizes beyond what its views
+// can decode to (a meshopt stream expands at most 64-fold).
+Status RestoreMeshoptFallbacks(tinygltf::Model& model,
+                               const std::vector<FallbackBuffer>& fallbacks);
+
+// Decodes every EXT_meshopt_compression buffer view (meshoptimizer, filters included) into its
+// buffer and every KHR_draco_mesh_compression primitive (Draco) into new float32 / uint32
+// accessors, then drops both extensions from the model. kParseError naming the view or
+// primitive when its data is corrupt or does not match its accessors.
+Status DecodeCompressedGeometry(tinygltf::Model& model);
 
 // ----- Welding (gltf_weld.cpp) -----------------------------------------------------------------
 
