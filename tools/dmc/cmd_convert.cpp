@@ -16,6 +16,7 @@ struct ConvertArgs {
   std::string input;
   std::string output;
   std::string frame_format = "obj";
+  std::string glb_encoding = "float";
   std::string connectivity;
   int max_frames = 0;
   GltfReadFlags gltf;
@@ -48,8 +49,13 @@ int RunConvert(const ConvertArgs& args) {
     for (const std::string& warning : report.warnings) ReportWarning("convert", warning);
   }
 
+  if (args.glb_encoding != "float" && LowercaseExtension(args.output) != ".glb") {
+    ReportWarning("convert", "--glb-encoding ignored: the output is not a .glb");
+  }
   WriteOptions write_options;
   write_options.frame_format = args.frame_format;
+  // convert keeps every float bit unless asked otherwise, so its GLBs are float32 by default.
+  write_options.glb_encoding = args.glb_encoding;
   write_options.progress = report_progress("writing");
   const Status written = WriteSequence(*sequence, args.output, write_options);
   progress.reset();
@@ -93,6 +99,11 @@ Command AddConvertCommand(CLI::App& parent) {
   app->add_option("--max-frames", args->max_frames, "Convert only the first N frames (0 = all)")
       ->check(CLI::NonNegativeNumber);
   AddGltfReadOptions(app, &args->gltf);
+  app->add_option("--glb-encoding", args->glb_encoding,
+                  "float (every bit kept), compact (KHR_mesh_quantization + "
+                  "EXT_meshopt_compression, as dmc decode writes) or quantized (without meshopt)")
+      ->check(CLI::IsMember({"compact", "quantized", "float"}))
+      ->capture_default_str();
   app->add_flag("--json", args->json, "Print a JSON summary instead of text");
   return {app, [args] { return RunConvert(*args); }};
 }

@@ -18,6 +18,8 @@ struct DecodeArgs {
   std::string output;
   std::string frame_format = "obj";
   std::string glb_layout = "auto";
+  std::string glb_encoding = "compact";
+  bool glb_float = false;
   int segment = -1;
   bool json = false;
   bool progress = false;
@@ -86,9 +88,14 @@ int RunDecode(const DecodeArgs& args) {
     return ReportError("decode", WithLimitHint(sequence.status().WithContext(args.input)),
                        args.json);
   }
+  if ((args.glb_float || args.glb_encoding != "compact") &&
+      LowercaseExtension(args.output) != ".glb") {
+    ReportWarning("decode", "--float and --glb-encoding ignored: the output is not a .glb");
+  }
   WriteOptions write_options;
   write_options.frame_format = args.frame_format;
   write_options.glb_layout = args.glb_layout;
+  write_options.glb_encoding = args.glb_float ? "float" : args.glb_encoding;
   std::optional<Progress> write_progress;
   write_options.progress = [&](int done, int total) {
     if (!write_progress) write_progress.emplace("writing", total, args.progress);
@@ -123,6 +130,12 @@ Command AddDecodeCommand(CLI::App& parent) {
   app->add_option("--glb-layout", args->glb_layout,
                   "auto, morph or frames: how a .glb output holds the frames (auto: smaller file)")
       ->capture_default_str();
+  app->add_option("--glb-encoding", args->glb_encoding,
+                  "compact (KHR_mesh_quantization + EXT_meshopt_compression), quantized (without "
+                  "meshopt, for readers that lack its decoder, e.g. Blender) or float (float32)")
+      ->check(CLI::IsMember({"compact", "quantized", "float"}))
+      ->capture_default_str();
+  app->add_flag("--float", args->glb_float, "Same as --glb-encoding float");
   app->add_option("--segment", args->segment, "Decode only this segment (0-based)");
   app->add_option("--max-memory", args->max_memory,
                   "Refuse a stream whose decoded output (12 bytes per vertex and frame, 12 per "

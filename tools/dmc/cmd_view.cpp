@@ -93,7 +93,11 @@ StatusOr<std::string> ReadText(const std::filesystem::path& path) {
 StatusOr<std::string> ToGlb(const MeshSequence& sequence, const std::filesystem::path& scratch,
                             const std::string& name) {
   const std::filesystem::path path = scratch / (name + ".glb");
-  DMC_RETURN_IF_ERROR(WriteSequence(sequence, path));
+  // The page reads the frames straight from the buffers (tools/viewer/src/frames.js): float32,
+  // frame-0-relative targets; the files never leave this machine, so size does not matter.
+  WriteOptions options;
+  options.glb_encoding = "float";
+  DMC_RETURN_IF_ERROR(WriteSequence(sequence, path, options));
   return ReadText(path);
 }
 

@@ -104,6 +104,14 @@ struct WriteOptions {
   // .glb only: "morph" (frame 0 + morph targets, weights animation), "frames" (one mesh per
   // frame, stepped) or "auto" (whichever file is smaller).
   std::string glb_layout = "auto";
+  // .glb only: how vertex data is stored.
+  //  - "compact": KHR_mesh_quantization (positions on a grid of 1/32766 of the largest
+  //    bounding-box extent over all frames, so within half of that; 8-bit normals) and
+  //    EXT_meshopt_compression buffers, both required by the file;
+  //  - "quantized": the same without EXT_meshopt_compression (for readers without a meshopt
+  //    decoder, e.g. Blender's importer);
+  //  - "float": plain float32 positions and normals, positions exact.
+  std::string glb_encoding = "compact";
   IoProgressCallback progress;
 };
 
@@ -111,7 +119,8 @@ struct WriteOptions {
 //  - .pc2: the point cache (startFrame 0, sampleRate 1: one sample per frame) plus <stem>.obj
 //    beside it holding the triangles and frame 0;
 //  - .obj/.off/.ply: a single mesh file; the sequence must have exactly one frame;
-//  - .glb: a binary glTF 2.0 file playing the frames at frame_rate (30 fps when 0), with normals;
+//  - .glb: a binary glTF 2.0 file playing the frames at frame_rate (30 fps when 0), with normals,
+//    stored as options.glb_encoding says;
 //  - anything else: a directory of frame_0000.<fmt>, frame_0001.<fmt>, ... (at least 4 digits,
 //    more when there are 10000 frames or more). An existing directory is replaced only when it
 //    holds nothing but frame files (so a typo cannot wipe an unrelated folder).

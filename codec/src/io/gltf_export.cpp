@@ -1,5 +1,7 @@
-// GLB export of a mesh sequence, in one of two layouts (see GlbLayout in gltf_format.h). Both
-// layouts hold every frame's positions and normals as float32; they differ in how the animation
+// GLB export of a mesh sequence, in one of two layouts (see GlbLayout in gltf_format.h), each in
+// one of three encodings (GlbEncoding): float32 positions and normals, or quantised ones
+// (KHR_mesh_quantization: 15-bit positions on a grid over every frame, 8-bit normals), optionally
+// with every buffer view through EXT_meshopt_compression. The layouts differ in how the animation
 // switches frames:
 //  - morph: frame 0 is the base mesh and frame f (f ≥ 1) is morph target f−1 holding
 //    frame f − frame 0; the weights animation has one key per frame whose weight vector is one-hot
@@ -13,7 +15,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <sstream>
 
 #include "io/gltf_format.h"
 #include "io/utf8_text.h"
@@ -71,6 +72,37 @@ class ModelBuilder {
         accessor.maxValues[c] = std::max(accessor.maxValues[c], value);
       }
     }
+    model_.accessors.push_back(accessor);
+    return static_cast<int>(model_.accessors.size()) - 1;
+  }
+
+  // A VEC3 accessor of int16 (unnormalised: quantised positions and their deltas) or int8
+  // (normalised: normals and their deltas) elements, each padded to 4-byte alignment as the
+  // spec requires, with min/max.
+  template <typename T>
+  int AddPaddedVec3(const std::vector<T>& values, bool normalized) {
+    constexpr size_t kStride = sizeof(T) == 2 ? 8 : 4;
+    const size_t count = values.size() / 3;
+    std::vector<unsigned char> bytes(count * kStride, 0);
+    tinygltf::Accessor accessor;
+    accessor.minValues.assign(3, HUGE_VAL);
+    accessor.maxValues.assign(3, -HUGE_VAL);
+    for (size_t e = 0; e < count; ++e) {
+      std::memcpy(bytes.data() + e * kStride, &values[3 * e], 3 * sizeof(T));
+      for (size_t c = 0; c < 3; ++c) {
+        const double value = values[3 * e + c];
+        accessor.minValues[c] = std::min(accessor.minValues[c], value);
+        accessor.maxValues[c] = std::max(accessor.maxValues[c], value);
+      }
+    }
+    // min/max are the stored integers, normalised or not (glTF 2.0, accessor.min).
+    accessor.bufferView = AddView(bytes.data(), bytes.size(), TINYGLTF_TARGET_ARRAY_BUFFER);
+    model_.bufferViews.back().byteStride = kStride;
+    accessor.componentType =
+        sizeof(T) == 2 ? TINYGLTF_COMPONENT_TYPE_SHORT : TINYGLTF_COMPONENT_TYPE_BYTE;
+    accessor.normalized = normalized;
+    accessor.type = TINYGLTF_TYPE_VEC3;
+    accessor.count = count;
     model_.accessors.push_back(accessor);
     return static_cast<int>(model_.accessors.size()) - 1;
   }
@@ -141,6 +173,88 @@ std::vector<float> FrameTimes(int frame_count, double frame_rate) {
   return times;
 }
 
+// The compact encoding's position grid: one cubic grid over every frame, so positions of any frame
+// and their differences from frame 0 are exact int16 values, and the node's uniform scale keeps
+// normals' directions (KHR_mesh_quantization recommends a uniform scale).
+class PositionGrid {
+ public:
+  // 15 bits per coordinate: differences of two grid values then fit int16.
+  static constexpr double kHalfRange = 16383.0;
+
+  explicit PositionGrid(const MeshSequence& sequence) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL);
+    Eigen::Vector3d hi = -lo;
+    for (int f = 0; f < sequence.frame_count(); ++f) {
+      const auto frame = sequence.frame_d(f);
+      lo = lo.cwiseMin(frame.colwise().minCoeff().transpose());
+      hi = hi.cwiseMax(frame.colwise().maxCoeff().transpose());
+    }
+    center_ = 0.5 * (lo + hi);
+    const double half_extent = 0.5 * (hi - lo).maxCoeff();
+    step_ = half_extent > 0 ? half_extent / kHalfRange : 1.0;
+  }
+
+  std::vector<int16_t> Quantize(const MeshSequence& sequence, int f) const {
+    const auto frame = sequence.frame_d(f);
+    std::vector<int16_t> q(3 * static_cast<size_t>(sequence.vertex_count()));
+    for (int v = 0; v < sequence.vertex_count(); ++v) {
+      for (int c = 0; c < 3; ++c) {
+        const double value = std::round((frame(v, c) - center_[c]) / step_);
+        q[3 * static_cast<size_t>(v) + static_cast<size_t>(c)] =
+            static_cast<int16_t>(std::clamp(value, -kHalfRange, kHalfRange));
+      }
+    }
+    return q;
+  }
+
+  // The node transform that maps grid values back.
+  void Apply(tinygltf::Node& node) const {
+    node.translation = {center_[0], center_[1], center_[2]};
+    node.scale = {step_, step_, step_};
+  }
+
+ private:
+  Eigen::Vector3d center_;
+  double step_ = 1.0;
+};
+
+std::vector<int8_t> QuantizeNormals(const std::vector<float>& normals) {
+  std::vector<int8_t> q(normals.size());
+  for (size_t i = 0; i < normals.size(); ++i) {
+    q[i] = static_cast<int8_t>(std::clamp(std::round(normals[i] * 127.0), -127.0, 127.0));
+  }
+  return q;
+}
+
+// The compact morph layout's normal displacements from frame f−1 to frame f, closed loop on the
+// running sum `sum` (int8 units, starts as the base normals): renderers normalise n_0 + Σ w·δ, so
+// the sum need only point along n_f, and s·n_f with the largest s ≤ 1 that keeps every step within
+// int8 is taken (at least 1/16; a normal that turns over in one frame may then be clamped).
+std::vector<int8_t> NormalSteps(const std::vector<float>& normals, std::vector<int>& sum) {
+  std::vector<int8_t> q(normals.size());
+  for (size_t v = 0; v < normals.size() / 3; ++v) {
+    double s = 1.0;
+    for (size_t c = 0; c < 3; ++c) {
+      const double target = 127.0 * normals[3 * v + c];
+      const double previous = sum[3 * v + c];
+      if (target - previous > 127.0) s = std::min(s, (previous + 127.0) / target);
+      if (target - previous < -127.0) s = std::min(s, (previous - 127.0) / target);
+    }
+    s = std::max(s, 1.0 / 16);
+    for (size_t c = 0; c < 3; ++c) {
+      const double step = std::round(s * 127.0 * normals[3 * v + c]) - sum[3 * v + c];
+      q[3 * v + c] = static_cast<int8_t>(std::clamp(step, -127.0, 127.0));
+      sum[3 * v + c] += q[3 * v + c];
+    }
+  }
+  return q;
+}
+
+void RequireCompactExtensions(tinygltf::Model& model) {
+  model.extensionsUsed.push_back("KHR_mesh_quantization");
+  model.extensionsRequired.push_back("KHR_mesh_quantization");
+}
+
 void SetExtras(tinygltf::Model& model, const MeshSequence& sequence, const char* layout,
                double frame_rate) {
   tinygltf::Value::Object dmc;
@@ -161,19 +275,49 @@ void AddScene(tinygltf::Model& model, const std::string& name) {
   model.defaultScene = 0;
 }
 
-tinygltf::Model MorphModel(const MeshSequence& sequence, double frame_rate) {
+tinygltf::Model MorphModel(const MeshSequence& sequence, double frame_rate, GlbEncoding encoding) {
   ModelBuilder builder;
   const int frame_count = sequence.frame_count();
+  const bool compact = encoding != GlbEncoding::kFloat;
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   primitive.indices = builder.AddIndices(sequence.triangles(), sequence.vertex_count());
   const std::vector<float> base = FramePositions(sequence, 0);
   const std::vector<float> base_normals = FrameNormals(sequence, 0);
-  primitive.attributes["POSITION"] = builder.AddFloats(base, TINYGLTF_TYPE_VEC3);
-  primitive.attributes["NORMAL"] = builder.AddFloats(base_normals, TINYGLTF_TYPE_VEC3);
+  const PositionGrid grid(sequence);
+  std::vector<int16_t> base_q, previous_q;
+  std::vector<int8_t> base_normals_q;
+  std::vector<int> normal_sum;
+  if (compact) {
+    base_q = grid.Quantize(sequence, 0);
+    base_normals_q = QuantizeNormals(base_normals);
+    primitive.attributes["POSITION"] = builder.AddPaddedVec3(base_q, /*normalized=*/false);
+    primitive.attributes["NORMAL"] = builder.AddPaddedVec3(base_normals_q, /*normalized=*/true);
+    previous_q = base_q;
+    normal_sum.assign(base_normals_q.begin(), base_normals_q.end());
+  } else {
+    primitive.attributes["POSITION"] = builder.AddFloats(base, TINYGLTF_TYPE_VEC3);
+    primitive.attributes["NORMAL"] = builder.AddFloats(base_normals, TINYGLTF_TYPE_VEC3);
+  }
   for (int f = 1; f < frame_count; ++f) {
-    std::vector<float> positions = FramePositions(sequence, f);
     std::vector<float> normals = FrameNormals(sequence, f);
+    if (compact) {
+      // Target f holds frame f − frame f−1 (the weights below are cumulative): displacements
+      // between neighbouring frames are small, which is what meshopt's codec compresses well,
+      // and integer sums on the grid are exact.
+      std::vector<int16_t> positions = grid.Quantize(sequence, f);
+      std::vector<int16_t> steps(positions.size());
+      for (size_t i = 0; i < positions.size(); ++i) {
+        steps[i] = static_cast<int16_t>(positions[i] - previous_q[i]);  // |Δ| ≤ 2·16383
+      }
+      previous_q = std::move(positions);
+      primitive.targets.push_back(
+          {{"POSITION", builder.AddPaddedVec3(steps, /*normalized=*/false)},
+           {"NORMAL",
+            builder.AddPaddedVec3(NormalSteps(normals, normal_sum), /*normalized=*/true)}});
+      continue;
+    }
+    std::vector<float> positions = FramePositions(sequence, f);
     for (size_t i = 0; i < positions.size(); ++i) {
       positions[i] -= base[i];
       normals[i] -= base_normals[i];
@@ -190,11 +334,20 @@ tinygltf::Model MorphModel(const MeshSequence& sequence, double frame_rate) {
   tinygltf::Node node;
   node.name = mesh.name;
   node.mesh = 0;
+  if (compact) {
+    grid.Apply(node);
+    RequireCompactExtensions(model);
+  }
   model.nodes.push_back(node);
   if (frame_count > 1) {
     const size_t targets = static_cast<size_t>(frame_count - 1);
     std::vector<float> weights(static_cast<size_t>(frame_count) * targets, 0.0f);
-    for (size_t f = 1; f < static_cast<size_t>(frame_count); ++f) weights[f * targets + f - 1] = 1;
+    // Float: one-hot weights (target f−1 is frame f − frame 0). Compact: cumulative weights
+    // (targets 0 … f−1 are the steps up to frame f). Either way LINEAR interpolation between two
+    // keys blends exactly the two neighbouring frames.
+    for (size_t f = 1; f < static_cast<size_t>(frame_count); ++f) {
+      for (size_t t = compact ? 0 : f - 1; t < f; ++t) weights[f * targets + t] = 1;
+    }
     tinygltf::AnimationSampler sampler;
     sampler.input = builder.AddFloats(FrameTimes(frame_count, frame_rate), TINYGLTF_TYPE_SCALAR);
     sampler.output = builder.AddFloats(weights, TINYGLTF_TYPE_SCALAR);
@@ -214,8 +367,10 @@ tinygltf::Model MorphModel(const MeshSequence& sequence, double frame_rate) {
   return std::move(model);
 }
 
-tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate) {
+tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate, GlbEncoding encoding) {
   ModelBuilder builder;
+  const bool compact = encoding != GlbEncoding::kFloat;
+  const PositionGrid grid(sequence);
   const int frame_count = sequence.frame_count();
   const int indices = builder.AddIndices(sequence.triangles(), sequence.vertex_count());
   const std::string name = sequence.name.empty() ? "dmc" : ReplaceInvalidUtf8(sequence.name);
@@ -226,10 +381,17 @@ tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate) {
     tinygltf::Primitive primitive;
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
     primitive.indices = indices;
-    primitive.attributes["POSITION"] =
-        builder.AddFloats(FramePositions(sequence, f), TINYGLTF_TYPE_VEC3);
-    primitive.attributes["NORMAL"] =
-        builder.AddFloats(FrameNormals(sequence, f), TINYGLTF_TYPE_VEC3);
+    if (compact) {
+      primitive.attributes["POSITION"] =
+          builder.AddPaddedVec3(grid.Quantize(sequence, f), /*normalized=*/false);
+      primitive.attributes["NORMAL"] =
+          builder.AddPaddedVec3(QuantizeNormals(FrameNormals(sequence, f)), /*normalized=*/true);
+    } else {
+      primitive.attributes["POSITION"] =
+          builder.AddFloats(FramePositions(sequence, f), TINYGLTF_TYPE_VEC3);
+      primitive.attributes["NORMAL"] =
+          builder.AddFloats(FrameNormals(sequence, f), TINYGLTF_TYPE_VEC3);
+    }
     tinygltf::Mesh mesh;
     mesh.name = "frame_" + std::to_string(f);
     mesh.primitives.push_back(primitive);
@@ -243,6 +405,11 @@ tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate) {
     root.children.push_back(f + 1);
   }
   tinygltf::Model& model = builder.model();
+  if (compact) {
+    // The frame nodes inherit the grid's transform; a dmc reader applies it too.
+    grid.Apply(root);
+    RequireCompactExtensions(model);
+  }
   model.nodes.push_back(root);
   model.nodes.insert(model.nodes.end(), frame_nodes.begin(), frame_nodes.end());
 
@@ -293,27 +460,28 @@ tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate) {
   return std::move(model);
 }
 
-StatusOr<std::vector<uint8_t>> Serialize(const tinygltf::Model& model) {
-  std::ostringstream stream;
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/true)) {
-    return InternalError("tinygltf failed to serialise the GLB");
-  }
-  const std::string bytes = std::move(stream).str();
-  return std::vector<uint8_t>(bytes.begin(), bytes.end());
+StatusOr<std::vector<uint8_t>> Serialize(tinygltf::Model model, GlbEncoding encoding) {
+  if (encoding == GlbEncoding::kCompact) return SerializeMeshoptGlb(std::move(model));
+  return SerializeGlb(model);
 }
 
 }  // namespace
 
-StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence, GlbLayout layout) {
+StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence, GlbLayout layout,
+                                         GlbEncoding encoding) {
   DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
   const double frame_rate = sequence.frame_rate > 0 && std::isfinite(sequence.frame_rate)
                                 ? sequence.frame_rate
                                 : kDefaultFrameRate;
-  if (layout == GlbLayout::kMorph) return Serialize(MorphModel(sequence, frame_rate));
-  if (layout == GlbLayout::kFrames) return Serialize(FramesModel(sequence, frame_rate));
-  DMC_ASSIGN_OR_RETURN(auto morph, Serialize(MorphModel(sequence, frame_rate)));
-  DMC_ASSIGN_OR_RETURN(auto frames, Serialize(FramesModel(sequence, frame_rate)));
+  if (layout == GlbLayout::kMorph) {
+    return Serialize(MorphModel(sequence, frame_rate, encoding), encoding);
+  }
+  if (layout == GlbLayout::kFrames) {
+    return Serialize(FramesModel(sequence, frame_rate, encoding), encoding);
+  }
+  DMC_ASSIGN_OR_RETURN(auto morph, Serialize(MorphModel(sequence, frame_rate, encoding), encoding));
+  DMC_ASSIGN_OR_RETURN(auto frames,
+                       Serialize(FramesModel(sequence, frame_rate, encoding), encoding));
   return morph.size() <= frames.size() ? std::move(morph) : std::move(frames);
 }
 

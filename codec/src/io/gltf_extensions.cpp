@@ -295,14 +295,13 @@ Status DecodeCompressedGeometry(tinygltf::Model& model) {
   return Status::Ok();
 }
 
-StatusOr<std::string> PrepareMeshoptFallbacks(std::string_view json_text,
-                                              std::vector<FallbackBuffer>& fallbacks) {
+StatusOr<std::string> PrepareCompressedGeometry(std::string_view json_text,
+                                                CompressedGeometryStandIns& stand_ins) {
   nlohmann::json document = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
   if (document.is_discarded() || !document.is_object()) return std::string(json_text);
-  auto buffers = document.find("buffers");
-  if (buffers == document.end() || !buffers->is_array()) return std::string(json_text);
   bool changed = false;
-  for (size_t b = 0; b < buffers->size(); ++b) {
+  auto buffers = document.find("buffers");
+  for (size_t b = 0; buffers != document.end() && buffers->is_array() && b < buffers->size(); ++b) {
     nlohmann::json& buffer = (*buffers)[b];
     if (!buffer.is_object()) continue;
     const auto extensions = buffer.find("extensions");
@@ -318,18 +317,49 @@ StatusOr<std::string> PrepareMeshoptFallbacks(std::string_view json_text,
     }
     // A one-byte stand-in: tinygltf cannot load a buffer without data; the real size is restored
     // (and checked against what its compressed views need) before decoding.
-    fallbacks.push_back({b, length->get<uint64_t>()});
+    stand_ins.fallbacks.push_back({b, length->get<uint64_t>()});
     buffer["byteLength"] = 1;
     buffer["uri"] = "data:application/octet-stream;base64,AA==";
     changed = true;
+  }
+  // tinygltf refuses index accessors without a buffer view, which is how Draco primitives come:
+  // their "indices" are held back until the Draco data fills the accessor.
+  auto meshes = document.find("meshes");
+  for (size_t m = 0; meshes != document.end() && meshes->is_array() && m < meshes->size(); ++m) {
+    auto primitives =
+        (*meshes)[m].is_object() ? (*meshes)[m].find("primitives") : nlohmann::json::iterator();
+    if (!(*meshes)[m].is_object() || primitives == (*meshes)[m].end() || !primitives->is_array()) {
+      continue;
+    }
+    for (size_t p = 0; p < primitives->size(); ++p) {
+      nlohmann::json& primitive = (*primitives)[p];
+      if (!primitive.is_object() || !primitive.contains("extensions") ||
+          !primitive["extensions"].is_object() || !primitive["extensions"].contains(kDraco) ||
+          !primitive.contains("indices") || !primitive["indices"].is_number_unsigned()) {
+        continue;
+      }
+      stand_ins.draco_indices.push_back({m, p, primitive["indices"].get<uint64_t>()});
+      primitive.erase("indices");
+      changed = true;
+    }
   }
   if (!changed) return std::string(json_text);
   return document.dump();
 }
 
-Status RestoreMeshoptFallbacks(tinygltf::Model& model,
-                               const std::vector<FallbackBuffer>& fallbacks) {
-  for (const FallbackBuffer& fallback : fallbacks) {
+Status RestoreCompressedGeometry(tinygltf::Model& model,
+                                 const CompressedGeometryStandIns& stand_ins) {
+  for (const DracoIndices& held : stand_ins.draco_indices) {
+    if (held.mesh >= model.meshes.size() ||
+        held.primitive >= model.meshes[held.mesh].primitives.size() ||
+        held.accessor >= model.accessors.size()) {
+      return ParseError("mesh " + std::to_string(held.mesh) + " primitive " +
+                        std::to_string(held.primitive) + ": indices accessor " +
+                        std::to_string(held.accessor) + " does not exist");
+    }
+    model.meshes[held.mesh].primitives[held.primitive].indices = static_cast<int>(held.accessor);
+  }
+  for (const FallbackBuffer& fallback : stand_ins.fallbacks) {
     // Each compressed view may decode to at most kMeshoptMaxExpansion times its compressed bytes,
     // and the buffer holds only those views (alignment aside): both bound what is allocated.
     uint64_t needed = 0;

@@ -77,7 +77,25 @@ enum class GlbLayout {
 // indices, and an animation playing the frames at sequence.frame_rate (30 fps when unknown).
 // The asset's extras record {"dmc": {"layout": "morph"|"frames", "frames": F, "vertices": V,
 // "frame_rate": fps}} so viewers can read the frames back without playing the animation.
+// How an exported GLB stores vertex data.
+enum class GlbEncoding {
+  // KHR_mesh_quantization (positions on a 15-bit grid over every frame, dequantised by the mesh
+  // node's transform, so within half a grid step, 1/32766 of the largest extent; 8-bit normals)
+  // and EXT_meshopt_compression on every buffer view. Both extensions are required.
+  kCompact,
+  kQuantized,  // kCompact without EXT_meshopt_compression, for readers without a meshopt decoder
+  kFloat,      // plain float32 positions and normals: positions exact
+};
+
 StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence,
-                                         GlbLayout layout = GlbLayout::kAuto);
+                                         GlbLayout layout = GlbLayout::kAuto,
+                                         GlbEncoding encoding = GlbEncoding::kCompact);
+
+// The model as a GLB, buffer 0 as its BIN chunk.
+StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model);
+
+// The model (one buffer) as a GLB with every buffer view compressed by EXT_meshopt_compression
+// (gltf_meshopt_pack.cpp): index views by the triangle codec, the others by the vertex codec.
+StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model);
 
 }  // namespace dmc::io_internal

@@ -27,9 +27,12 @@ const tinygltf::Value& Member(const tinygltf::Value& value, const char* key) {
 }
 
 // The sequence of a dmc "frames" export (see gltf_export.cpp): mesh f holds frame f, all sharing
-// one index accessor. Posing the file instead would give every frame mesh at once.
+// one index accessor, under a root node whose transform dequantises compact exports. Posing the
+// file instead would give every frame mesh at once.
 StatusOr<GltfImport> ReadFramesExport(const tinygltf::Model& model, const GltfReadOptions& options,
                                       int max_frames) {
+  const gltf::Matrix4 root =
+      model.nodes.empty() ? gltf::Matrix4::Identity() : gltf::StaticPose(model.nodes[0]).Local();
   int frame_count = static_cast<int>(model.meshes.size());
   if (max_frames > 0) frame_count = std::min(frame_count, max_frames);
   GltfImport result;
@@ -59,7 +62,11 @@ StatusOr<GltfImport> ReadFramesExport(const tinygltf::Model& model, const GltfRe
                         " vertices, frame 0 has " + std::to_string(result.sequence.vertex_count()));
     }
     float* frame = result.sequence.frame(f).data();
-    for (size_t i = 0; i < positions.size(); ++i) frame[i] = static_cast<float>(positions[i]);
+    for (size_t i = 0; i < positions.size(); i += 3) {
+      const Eigen::Vector4d p =
+          root * Eigen::Vector4d(positions[i], positions[i + 1], positions[i + 2], 1.0);
+      for (size_t c = 0; c < 3; ++c) frame[i + c] = static_cast<float>(p[static_cast<long>(c)]);
+    }
   }
   if (frame_count == 0) return UnsupportedError("the dmc frames export holds no frame");
   return result;
@@ -108,30 +115,57 @@ StatusOr<int> ClipFrameCount(const Clip& clip, double frame_rate, int max_frames
 
 namespace {
 
-// The GLB container's JSON chunk, replaced by `json` (padded with spaces, as the spec asks); the
-// bytes unchanged when they are not a well-formed GLB (tinygltf then reports why).
-std::string ReplaceGlbJson(const std::string& glb, const std::string& json,
-                           std::string_view* json_out = nullptr) {
+// Where a GLB's JSON chunk lies, after checking the container as the glTF 2.0 spec (§4.4) defines
+// it: the header's length is the file's, and every chunk fits. tinygltf 2.7 checks less (a BIN
+// chunk may reach 8 bytes past the file), so nothing reaches it unchecked.
+struct GlbJsonChunk {
+  size_t offset = 0;
+  size_t length = 0;
+};
+
+StatusOr<GlbJsonChunk> CheckGlbContainer(std::string_view glb) {
   auto u32 = [&](size_t offset) {
     uint32_t value = 0;
     std::memcpy(&value, glb.data() + offset, 4);
     return value;
   };
-  if (glb.size() < 20 || u32(16) != 0x4E4F534Au) return glb;  // no JSON chunk
-  const size_t json_length = u32(12);
-  if (json_length > glb.size() - 20) return glb;
-  if (json_out != nullptr) {
-    *json_out = std::string_view(glb).substr(20, json_length);
-    return glb;
+  if (glb.size() < 12 || u32(0) != 0x46546C67u) {
+    return ParseError("not a GLB file (it does not start with the glTF magic)");
   }
-  std::string padded = json;
-  while (padded.size() % 4 != 0) padded.push_back(' ');
+  if (u32(4) != 2) return UnsupportedError("GLB container version " + std::to_string(u32(4)));
+  if (u32(8) != glb.size()) {
+    return ParseError("the GLB header declares " + std::to_string(u32(8)) +
+                      " bytes, the file has " + std::to_string(glb.size()) + " (truncated?)");
+  }
+  GlbJsonChunk json;
+  for (size_t offset = 12, chunk = 0; offset < glb.size(); ++chunk) {
+    if (glb.size() - offset < 8)
+      return ParseError("GLB chunk " + std::to_string(chunk) + " is cut");
+    const size_t length = u32(offset);
+    if (length > glb.size() - offset - 8) {
+      return ParseError("GLB chunk " + std::to_string(chunk) + " declares " +
+                        std::to_string(length) + " bytes, " +
+                        std::to_string(glb.size() - offset - 8) + " remain (truncated?)");
+    }
+    if (chunk == 0) {
+      if (u32(offset + 4) != 0x4E4F534Au) return ParseError("the first GLB chunk is not JSON");
+      json = {offset + 8, length};
+    }
+    offset += 8 + length;
+  }
+  if (json.offset == 0) return ParseError("the GLB holds no JSON chunk");
+  return json;
+}
+
+// The GLB with its JSON chunk replaced by `json` (padded with spaces, as the spec asks).
+std::string ReplaceGlbJson(const std::string& glb, const GlbJsonChunk& chunk, std::string json) {
+  while (json.size() % 4 != 0) json.push_back(' ');
   std::string out = glb.substr(0, 12);
   auto put = [&](uint32_t value) { out.append(reinterpret_cast<const char*>(&value), 4); };
-  put(static_cast<uint32_t>(padded.size()));
+  put(static_cast<uint32_t>(json.size()));
   put(0x4E4F534Au);
-  out += padded;
-  out += glb.substr(20 + json_length);
+  out += json;
+  out += glb.substr(chunk.offset + chunk.length);
   const uint32_t total = static_cast<uint32_t>(out.size());
   std::memcpy(out.data() + 8, &total, 4);
   return out;
@@ -163,14 +197,23 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
   }
   DMC_ASSIGN_OR_RETURN(std::string bytes, ReadWholeFile(path));
   const bool binary = LowercaseExtension(path) == ".glb";
-  // EXT_meshopt_compression's fallback buffers hold no data, which tinygltf refuses: they get a
-  // stand-in first (gltf_extensions.cpp).
-  std::vector<gltf::FallbackBuffer> fallbacks;
-  if (bytes.find("EXT_meshopt_compression") != std::string::npos) {
-    std::string_view json = bytes;
-    if (binary) ReplaceGlbJson(bytes, {}, &json);
-    DMC_ASSIGN_OR_RETURN(std::string prepared, gltf::PrepareMeshoptFallbacks(json, fallbacks));
-    if (!fallbacks.empty()) bytes = binary ? ReplaceGlbJson(bytes, prepared) : std::move(prepared);
+  GlbJsonChunk json_chunk{0, bytes.size()};
+  if (binary) {
+    StatusOr<GlbJsonChunk> checked = CheckGlbContainer(bytes);
+    if (!checked.ok()) return checked.status().WithContext(path.string());
+    json_chunk = *checked;
+  }
+  // What tinygltf cannot load of the compressed-geometry extensions gets a stand-in first
+  // (gltf_extensions.cpp).
+  gltf::CompressedGeometryStandIns stand_ins;
+  if (bytes.find("EXT_meshopt_compression") != std::string::npos ||
+      bytes.find("KHR_draco_mesh_compression") != std::string::npos) {
+    const std::string_view json =
+        std::string_view(bytes).substr(json_chunk.offset, json_chunk.length);
+    DMC_ASSIGN_OR_RETURN(std::string prepared, gltf::PrepareCompressedGeometry(json, stand_ins));
+    if (!stand_ins.fallbacks.empty() || !stand_ins.draco_indices.empty()) {
+      bytes = binary ? ReplaceGlbJson(bytes, json_chunk, std::move(prepared)) : std::move(prepared);
+    }
   }
   tinygltf::Model model;
   std::string errors, warnings;
@@ -187,7 +230,7 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
   }
   const Status decoded = [&] {
     DMC_RETURN_IF_ERROR(gltf::CheckRequiredExtensions(model));
-    DMC_RETURN_IF_ERROR(gltf::RestoreMeshoptFallbacks(model, fallbacks));
+    DMC_RETURN_IF_ERROR(gltf::RestoreCompressedGeometry(model, stand_ins));
     return gltf::DecodeCompressedGeometry(model);
   }();
   if (!decoded.ok()) return decoded.WithContext(path.string());

@@ -169,22 +169,34 @@ class ScenePoser {
 // that dmc does not decode (materials, textures, lights and metadata may be required).
 Status CheckRequiredExtensions(const tinygltf::Model& model);
 
-// An EXT_meshopt_compression fallback buffer: it has no data in the file, and tinygltf refuses a
-// buffer without data, so the JSON gets a one-byte stand-in until the decoded views fill it.
+// What tinygltf 2.7 cannot load as the compressed-geometry extensions lay it out, replaced in the
+// JSON before loading and restored after:
+//  - an EXT_meshopt_compression fallback buffer has no data, and tinygltf refuses a buffer
+//    without data: it gets a one-byte stand-in until the decoded views fill it;
+//  - a KHR_draco_mesh_compression primitive's index accessor has no buffer view, which tinygltf
+//    refuses: the primitive's "indices" is held back.
 struct FallbackBuffer {
   size_t index = 0;
   uint64_t byte_length = 0;  // as the file declares it
 };
+struct DracoIndices {
+  size_t mesh = 0, primitive = 0;
+  uint64_t accessor = 0;
+};
+struct CompressedGeometryStandIns {
+  std::vector<FallbackBuffer> fallbacks;
+  std::vector<DracoIndices> draco_indices;
+};
 
-// The glTF JSON with every fallback buffer replaced by its stand-in, recorded in `fallbacks`;
-// the text unchanged when there is none (or when it is not JSON: tinygltf reports that).
-StatusOr<std::string> PrepareMeshoptFallbacks(std::string_view json_text,
-                                              std::vector<FallbackBuffer>& fallbacks);
+// The glTF JSON with the stand-ins above, recorded in `stand_ins`; the text unchanged when there is
+// nothing to replace (or when it is not JSON: tinygltf reports that).
+StatusOr<std::string> PrepareCompressedGeometry(std::string_view json_text,
+                                                CompressedGeometryStandIns& stand_ins);
 
-// Gives every fallback buffer its declared size (zeros), refusing sizes beyond what its views
-// can decode to (a meshopt stream expands at most 64-fold).
-Status RestoreMeshoptFallbacks(tinygltf::Model& model,
-                               const std::vector<FallbackBuffer>& fallbacks);
+// Restores the held-back indices and gives every fallback buffer its declared size (zeros),
+// refusing sizes beyond what its views can decode to (a meshopt stream expands at most 64-fold).
+Status RestoreCompressedGeometry(tinygltf::Model& model,
+                                 const CompressedGeometryStandIns& stand_ins);
 
 // Decodes every EXT_meshopt_compression buffer view (meshoptimizer, filters included) into its
 // buffer and every KHR_draco_mesh_compression primitive (Draco) into new float32 / uint32

@@ -540,7 +540,17 @@ Status WriteSequenceUnguarded(const MeshSequence& sequence,
       return InvalidArgumentError("unknown GLB layout '" + options.glb_layout +
                                   "' (expected auto, morph or frames)");
     }
-    DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> glb, io_internal::EncodeGlb(sequence, layout));
+    io_internal::GlbEncoding encoding = io_internal::GlbEncoding::kCompact;
+    if (options.glb_encoding == "quantized") {
+      encoding = io_internal::GlbEncoding::kQuantized;
+    } else if (options.glb_encoding == "float") {
+      encoding = io_internal::GlbEncoding::kFloat;
+    } else if (options.glb_encoding != "compact") {
+      return InvalidArgumentError("unknown GLB encoding '" + options.glb_encoding +
+                                  "' (expected compact, quantized or float)");
+    }
+    DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> glb,
+                         io_internal::EncodeGlb(sequence, layout, encoding));
     DMC_RETURN_IF_ERROR(WriteFileAtomically(output, glb));
     if (options.progress) options.progress(sequence.frame_count(), sequence.frame_count());
     return Status::Ok();

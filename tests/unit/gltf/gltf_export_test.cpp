@@ -13,8 +13,14 @@
 namespace dmc {
 namespace {
 
-using io_internal::EncodeGlb;
+using io_internal::GlbEncoding;
 using io_internal::GlbLayout;
+
+// These tests check exact float values: the float32 encoding (gltf_compact_test.cpp covers the
+// compact ones).
+StatusOr<std::vector<uint8_t>> FloatGlb(const MeshSequence& sequence, GlbLayout layout) {
+  return io_internal::EncodeGlb(sequence, layout, GlbEncoding::kFloat);
+}
 
 // A 5×5 grid waving over 6 frames at 25 fps.
 MeshSequence WavingGrid() {
@@ -60,7 +66,7 @@ std::vector<float> AccessorFloats(const tinygltf::Model& model, int index) {
 
 TEST(GltfExportTest, MorphLayoutPlaysBackEveryFrame) {
   const MeshSequence sequence = WavingGrid();
-  auto glb = EncodeGlb(sequence, GlbLayout::kMorph);
+  auto glb = FloatGlb(sequence, GlbLayout::kMorph);
   ASSERT_TRUE(glb.ok()) << glb.status().ToString();
   const tinygltf::Model model = LoadBack(*glb, "morph.glb");
   ASSERT_EQ(model.meshes.size(), 1u);
@@ -88,7 +94,7 @@ TEST(GltfExportTest, MorphLayoutPlaysBackEveryFrame) {
 
 TEST(GltfExportTest, FramesLayoutHoldsOneExactMeshPerFrame) {
   const MeshSequence sequence = WavingGrid();
-  auto glb = EncodeGlb(sequence, GlbLayout::kFrames);
+  auto glb = FloatGlb(sequence, GlbLayout::kFrames);
   ASSERT_TRUE(glb.ok()) << glb.status().ToString();
   const tinygltf::Model model = LoadBack(*glb, "frames.glb");
   ASSERT_EQ(model.meshes.size(), 6u);
@@ -112,9 +118,9 @@ TEST(GltfExportTest, FramesLayoutHoldsOneExactMeshPerFrame) {
 TEST(GltfExportTest, AutoLayoutIsTheSmallerFile) {
   for (int frames : {2, 40}) {
     MeshSequence sequence = testing::PlanarGrid(4, frames);
-    const auto morph = EncodeGlb(sequence, GlbLayout::kMorph);
-    const auto stepped = EncodeGlb(sequence, GlbLayout::kFrames);
-    const auto chosen = EncodeGlb(sequence, GlbLayout::kAuto);
+    const auto morph = FloatGlb(sequence, GlbLayout::kMorph);
+    const auto stepped = FloatGlb(sequence, GlbLayout::kFrames);
+    const auto chosen = FloatGlb(sequence, GlbLayout::kAuto);
     ASSERT_TRUE(morph.ok() && stepped.ok() && chosen.ok());
     EXPECT_EQ(chosen->size(), std::min(morph->size(), stepped->size())) << frames << " frames";
   }
@@ -125,6 +131,7 @@ TEST(GltfExportTest, WriteAndReadSequenceRoundTripThroughGlb) {
   const auto path = TempFile("grid.glb");
   WriteOptions write;
   write.glb_layout = "morph";
+  write.glb_encoding = "float";
   ASSERT_TRUE(WriteSequence(sequence, path, write).ok());
   ReadOptions read;
   read.gltf.frame_rate = 25.0;
@@ -162,7 +169,7 @@ TEST(GltfExportTest, EveryFrameCountReadsBackAtTheRecordedRate) {
 }
 
 TEST(GltfExportTest, SingleFrameHasNoAnimation) {
-  auto glb = EncodeGlb(testing::Tetrahedron(1), GlbLayout::kMorph);
+  auto glb = FloatGlb(testing::Tetrahedron(1), GlbLayout::kMorph);
   ASSERT_TRUE(glb.ok());
   const tinygltf::Model model = LoadBack(*glb, "tetrahedron.glb");
   EXPECT_TRUE(model.animations.empty());

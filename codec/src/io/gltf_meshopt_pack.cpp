@@ -1,0 +1,152 @@
+// EXT_meshopt_compression packing of an exported model: every buffer view is compressed with
+// meshoptimizer's vertex or index codec into the GLB's BIN chunk (buffer 0), and the views point at
+// a data-less fallback buffer (buffer 1) holding their decoded layout, as the extension defines.
+#include <meshoptimizer.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "io/gltf_format.h"
+
+namespace dmc::io_internal {
+namespace {
+
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+
+size_t ComponentBytes(int component_type) {
+  return static_cast<size_t>(
+      tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(component_type)));
+}
+
+void AddExtensionName(std::vector<std::string>& names, const std::string& name) {
+  if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+}
+
+}  // namespace
+
+StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model) {
+  std::ostringstream stream;
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/true)) {
+    return InternalError("tinygltf failed to serialise the GLB");
+  }
+  const std::string bytes = std::move(stream).str();
+  return std::vector<uint8_t>(bytes.begin(), bytes.end());
+}
+
+StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
+  if (model.buffers.size() != 1) return InternalError("meshopt packing expects one buffer");
+  const std::vector<unsigned char> raw = std::move(model.buffers[0].data);
+  // Which views hold indices: the TRIANGLES codec needs the index size and a multiple of 3.
+  std::vector<int> index_size(model.bufferViews.size(), 0);
+  for (const tinygltf::Mesh& mesh : model.meshes) {
+    for (const tinygltf::Primitive& primitive : mesh.primitives) {
+      if (primitive.indices < 0) continue;
+      const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(primitive.indices)];
+      index_size[static_cast<size_t>(accessor.bufferView)] =
+          static_cast<int>(ComponentBytes(accessor.componentType));
+    }
+  }
+  // The element size of each view (for views without byteStride).
+  std::vector<size_t> element_size(model.bufferViews.size(), 0);
+  for (const tinygltf::Accessor& accessor : model.accessors) {
+    if (accessor.bufferView < 0) continue;
+    element_size[static_cast<size_t>(accessor.bufferView)] =
+        ComponentBytes(accessor.componentType) *
+        static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)));
+  }
+
+  std::vector<unsigned char> packed;
+  size_t fallback_size = 0;
+  // tinygltf 2.7 does not serialise buffer views' extensions: they are written into the JSON below.
+  std::vector<nlohmann::json> view_extensions;
+  for (size_t v = 0; v < model.bufferViews.size(); ++v) {
+    tinygltf::BufferView& view = model.bufferViews[v];
+    const unsigned char* source = raw.data() + view.byteOffset;
+    const size_t length = view.byteLength;
+    std::vector<unsigned char> compressed;
+    nlohmann::json extension;
+    size_t count = 0, stride = 0;
+    if (index_size[v] != 0) {
+      stride = static_cast<size_t>(index_size[v]);
+      count = length / stride;
+      std::vector<uint32_t> indices(count);
+      for (size_t i = 0; i < count; ++i) {
+        uint32_t value = 0;
+        std::memcpy(&value, source + i * stride, stride);  // little-endian
+        indices[i] = value;
+      }
+      compressed.resize(meshopt_encodeIndexBufferBound(count, count == 0 ? 0 : count));
+      compressed.resize(
+          meshopt_encodeIndexBuffer(compressed.data(), compressed.size(), indices.data(), count));
+      extension["mode"] = "TRIANGLES";
+    } else {
+      stride = view.byteStride != 0 ? view.byteStride : element_size[v];
+      if (stride == 0 || stride % 4 != 0 || stride > 256 || length % stride != 0) {
+        return InternalError("buffer view " + std::to_string(v) +
+                             " has a stride meshopt cannot code");
+      }
+      count = length / stride;
+      compressed.resize(meshopt_encodeVertexBufferBound(count, stride));
+      compressed.resize(
+          meshopt_encodeVertexBuffer(compressed.data(), compressed.size(), source, count, stride));
+      extension["mode"] = "ATTRIBUTES";
+    }
+    if (compressed.empty() && count != 0) {
+      return InternalError("meshoptimizer failed to compress buffer view " + std::to_string(v));
+    }
+    while (packed.size() % 4 != 0) packed.push_back(0);
+    extension["buffer"] = 0;
+    extension["byteOffset"] = packed.size();
+    extension["byteLength"] = compressed.size();
+    extension["byteStride"] = stride;
+    extension["count"] = count;
+    packed.insert(packed.end(), compressed.begin(), compressed.end());
+    while (fallback_size % 4 != 0) ++fallback_size;
+    view.buffer = 1;
+    view.byteOffset = fallback_size;
+    fallback_size += length;
+    view_extensions.push_back(std::move(extension));
+  }
+  model.buffers[0].data = std::move(packed);
+  model.buffers.emplace_back();  // the fallback; tinygltf cannot express it, fixed below
+  AddExtensionName(model.extensionsUsed, kMeshopt);
+  AddExtensionName(model.extensionsRequired, kMeshopt);
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> glb, SerializeGlb(model));
+
+  // tinygltf writes a buffer's byteLength from its data, and would embed buffer 1 as a data URI:
+  // the JSON chunk is rewritten with the fallback buffer as the extension declares it.
+  auto u32 = [&](size_t offset) {
+    uint32_t value = 0;
+    std::memcpy(&value, glb.data() + offset, 4);
+    return value;
+  };
+  const size_t json_length = u32(12);
+  nlohmann::json document =
+      nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + static_cast<long>(json_length),
+                            nullptr, /*allow_exceptions=*/false);
+  if (document.is_discarded() || !document.contains("buffers") || document["buffers"].size() != 2) {
+    return InternalError("tinygltf wrote an unexpected GLB");
+  }
+  document["buffers"][1] = {{"byteLength", fallback_size},
+                            {"extensions", {{kMeshopt, {{"fallback", true}}}}}};
+  for (size_t v = 0; v < view_extensions.size(); ++v) {
+    document["bufferViews"][v]["extensions"][kMeshopt] = std::move(view_extensions[v]);
+  }
+  std::string json = document.dump();
+  while (json.size() % 4 != 0) json.push_back(' ');
+  std::vector<uint8_t> out(glb.begin(), glb.begin() + 12);
+  auto put = [&](uint32_t value) {
+    const auto* bytes = reinterpret_cast<const uint8_t*>(&value);
+    out.insert(out.end(), bytes, bytes + 4);
+  };
+  put(static_cast<uint32_t>(json.size()));
+  put(0x4E4F534Au);  // "JSON"
+  out.insert(out.end(), json.begin(), json.end());
+  out.insert(out.end(), glb.begin() + 20 + static_cast<long>(json_length), glb.end());
+  const uint32_t total = static_cast<uint32_t>(out.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  return out;
+}
+
+}  // namespace dmc::io_internal
