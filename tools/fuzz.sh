@@ -29,7 +29,7 @@ other_seconds=$((main_seconds / 2 > 0 ? main_seconds / 2 : 1))
 crash_dir="${DMC_FUZZ_CRASH_DIR:-$build/crashers/$(date -u +%Y%m%dT%H%M%SZ)}"
 jobs="${DMC_FUZZ_JOBS:-$(nproc)}"
 all_targets=(decode_fuzz codec_roundtrip_fuzz decode_rechecksum_fuzz stream_info_fuzz
-  connectivity_fuzz connectivity_roundtrip_fuzz obj_fuzz ply_fuzz pc2_fuzz)
+  connectivity_fuzz connectivity_roundtrip_fuzz obj_fuzz ply_fuzz pc2_fuzz glb_fuzz)
 read -r -a targets <<<"${DMC_FUZZ_TARGETS:-${all_targets[*]}}"
 
 if ! command -v clang++-14 >/dev/null; then

@@ -9,6 +9,7 @@ packages=(
   libopenblas-dev  # CHOLMOD's supernodal factorisation: 30 % faster decoding than reference BLAS
   libhwy-dev       # Google Highway: the SIMD variants of frame synthesis (dmc/simd.h)
   libtinygltf-dev libspectra-dev            # glTF import/export; eigensolvers for spectral methods
+  gltfpack                                  # meshopt-compressed GLB inputs for the glTF tests
   pybind11-dev python3-dev python3-numpy python3-scipy  # the Python module and its tests
   clang-14 libclang-rt-14-dev               # libFuzzer and the sanitizer runs
   clang-format-14 ccache                    # tools/test.sh's formatting check; compiler cache

@@ -33,16 +33,28 @@ rm -rf "$data" && mkdir -p "$data"
 
 case "$mode" in
   validate)
+    # Every layout in every encoding. The validator cannot decode EXT_meshopt_compression (it
+    # checks the compact files' structure only), so the quantized files, the same data without
+    # meshopt, are what checks the quantised accessors' contents.
     files=()
     for layout in morph frames auto; do
-      "$dmc" decode "$data/cloth.dmc" -o "$data/cloth-$layout.glb" --glb-layout "$layout" >/dev/null
-      files+=("$data/cloth-$layout.glb")
+      for encoding in compact quantized float; do
+        out="$data/cloth-$layout-$encoding.glb"
+        "$dmc" decode "$data/cloth.dmc" -o "$out" --glb-layout "$layout" --glb-encoding "$encoding" >/dev/null
+        files+=("$out")
+      done
     done
-    # Real skinned and morph-target samples, imported and written back out, when present.
+    # Real skinned and morph-target samples, imported and written back out, and decoded, when
+    # present.
     for sample in cesium-man/CesiumMan.glb threejs-horse-morph/Horse.glb fox/Fox.glb; do
       if [ -n "$shared" ] && [ -f "$shared/$sample" ]; then
         name=$(basename "$sample" .glb)
         "$dmc" convert "$shared/$sample" -o "$data/$name-export.glb" --max-frames 20 >/dev/null
+        "$dmc" encode "$data/$name-export.glb" -o "$data/$name.dmc" >/dev/null
+        for encoding in compact quantized; do
+          "$dmc" decode "$data/$name.dmc" -o "$data/$name-$encoding.glb" --glb-encoding "$encoding" >/dev/null
+          files+=("$data/$name-$encoding.glb")
+        done
         files+=("$data/$name-export.glb")
       fi
     done

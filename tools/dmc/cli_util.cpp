@@ -126,7 +126,7 @@ void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags, std::string_view ap
   flags->cli_options = {
       app->add_option("--gltf-fps", options.frame_rate,
                       prefix + ": sampling frame rate (default: the rate a dmc export recorded, "
-                               "else 30)")
+                               "else the key rate when the keys are uniform, else 30)")
           ->check(PositiveFrameRate()),
       app->add_option("--gltf-mesh", options.mesh,
                       prefix + ": only this mesh or node (all its primitives; default: every "

@@ -33,6 +33,10 @@ Status WithLimitHint(const Status& status) {
 }
 
 int RunDecode(const DecodeArgs& args) {
+  if ((args.glb_float || args.glb_encoding != "compact") &&
+      LowercaseExtension(args.output) != ".glb") {
+    ReportWarning("decode", "--float and --glb-encoding ignored: the output is not a .glb");
+  }
   if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input); !distinct.ok()) {
     return ReportError("decode", distinct, args.json);
   }
@@ -87,10 +91,6 @@ int RunDecode(const DecodeArgs& args) {
   if (!sequence.ok()) {
     return ReportError("decode", WithLimitHint(sequence.status().WithContext(args.input)),
                        args.json);
-  }
-  if ((args.glb_float || args.glb_encoding != "compact") &&
-      LowercaseExtension(args.output) != ".glb") {
-    ReportWarning("decode", "--float and --glb-encoding ignored: the output is not a .glb");
   }
   WriteOptions write_options;
   write_options.frame_format = args.frame_format;

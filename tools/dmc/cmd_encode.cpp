@@ -106,6 +106,13 @@ int RunEncode(const EncodeArgs& args) {
       !distinct.ok()) {
     return ReportError("encode", distinct, args.json);
   }
+  if (options.fps > 0 && IsGltfPath(args.input)) {
+    // A glTF animation has its own clock; --fps would silently retime it.
+    return ReportError("encode",
+                       InvalidArgumentError("--fps sets the rate of inputs that have none; a glTF "
+                                            "animation is sampled at --gltf-fps instead"),
+                       args.json);
+  }
   EncodeReport report;
   const Status status = EncodeInput(args, options, report);
   if (!status.ok()) return ReportError("encode", status, args.json);

@@ -99,7 +99,11 @@ struct EncoderOptions {
   double target_bpfv = 0.0;    // > 0: search parameters for this rate
   double target_sted = 0.0;    // > 0: search parameters for this distortion
   bool allow_reorder = false;  // let the output use the codec's own vertex order
-  bool measure = true;         // decode and measure KG/STED
+  // Frames per second recorded in the stream (and used for GLB output) when > 0, replacing the
+  // input's own rate; for inputs that have none (OBJ/OFF/PLY frames, PC2 caches). 0 = the
+  // input's rate (0 when it has none: unknown).
+  double fps = 0.0;
+  bool measure = true;  // decode and measure KG/STED
 };
 
 // Segments of at least this many frames pay for more side information: finer DDL weights

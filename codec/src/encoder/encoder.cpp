@@ -176,7 +176,8 @@ Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, double di
   DMC_ASSIGN_OR_RETURN(
       const std::vector<uint8_t> prefix,
       StreamPrefix(source.vertex_count(), static_cast<int>(source.triangles().rows()),
-                   source.name(), source.frame_rate(), plan, job.connectivity, totals));
+                   source.name(), options.fps > 0 ? options.fps : source.frame_rate(), plan,
+                   job.connectivity, totals));
   DMC_RETURN_IF_ERROR(write(prefix));
   DMC_RETURN_IF_ERROR(EncodeSegments(
       source, job.connectivity, options, plan, job.streaming.segments_in_flight, write,

@@ -67,6 +67,10 @@ Status ValidateOptions(const EncoderOptions& o, OptionSpelling spelling) {
   if (!std::isfinite(o.target_bpfv) || o.target_bpfv < 0.0) {
     return bad("target_bpfv", "must be finite and >= 0");
   }
+  if (!std::isfinite(o.fps) || o.fps < 0.0 || o.fps > 1e6) {
+    return bad("fps",
+               "must be a frame rate in frames per second, 0 < fps <= 10^6 (0 = the input's)");
+  }
   if (!std::isfinite(o.target_sted) || o.target_sted < 0.0) {
     return bad("target_sted", "must be finite and >= 0");
   }

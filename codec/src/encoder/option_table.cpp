@@ -60,6 +60,9 @@ constexpr EncoderOptionSpec kOptions[] = {
     {"target_sted", &O::target_sted, "> 0: search the residual step for this STED"},
     {"allow_reorder", &O::allow_reorder,
      "Let the stream use the codec's own vertex order (smaller connectivity)"},
+    {"fps", &O::fps,
+     "Frames per second recorded in the stream, for inputs without a rate (OBJ/OFF/PLY frames, "
+     "PC2); 0 = the input's own rate"},
     {"measure", &O::measure, "Decode the stream and measure KG/STED", /*shapes_stream=*/false},
 };
 

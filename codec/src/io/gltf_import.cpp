@@ -96,6 +96,42 @@ StatusOr<Clip> LoadClip(const tinygltf::Model& model, const std::string& animati
   return clip;
 }
 
+// The rate the clip is keyed at when every key of every channel lies on one grid of period 1/r
+// from the clip's start, kMinKeyRate ≤ r ≤ kMaxKeyRate (0 otherwise): sampling there reproduces
+// the keys themselves, as baked animations (keyed every frame) need. Sparser keys leave motion to
+// the interpolation between them, which the default rate samples. Key times are float32, so a key
+// may miss its grid point by a few units in the last place; rates within 10^-4 of a whole number,
+// or of the NTSC rates n·1000/1001, are taken as that rate.
+double UniformKeyRate(const Clip& clip) {
+  constexpr double kMinKeyRate = 12.0;
+  constexpr double kMaxKeyRate = 240.0;
+  std::vector<double> times;
+  for (const Channel& channel : clip.channels) {
+    times.insert(times.end(), channel.times.begin(), channel.times.end());
+  }
+  std::sort(times.begin(), times.end());
+  const double slack = std::ldexp(std::abs(clip.start) + std::abs(clip.end), -22);
+  double period = HUGE_VAL;
+  for (size_t k = 1; k < times.size(); ++k) {
+    if (times[k] - times[k - 1] > slack) period = std::min(period, times[k] - times[k - 1]);
+  }
+  if (!std::isfinite(period) || 1.0 / period > kMaxKeyRate * (1 + 1e-4)) return 0.0;
+  // The period from the whole span (less rounding than one interval).
+  const double steps = std::round((clip.end - clip.start) / period);
+  if (steps < 1) return 0.0;
+  period = (clip.end - clip.start) / steps;
+  for (const double t : times) {
+    const double k = std::round((t - clip.start) / period);
+    if (std::abs(t - clip.start - k * period) > 1e-3 * period + slack) return 0.0;
+  }
+  const double rate = 1.0 / period;
+  if (rate < kMinKeyRate * (1 - 1e-4)) return 0.0;
+  for (const double nice : {std::round(rate), std::round(rate * 1.001) / 1.001}) {
+    if (std::abs(rate - nice) <= 1e-4 * nice) return nice;
+  }
+  return rate;
+}
+
 // A frame at every 1/fps from the start, the last one no later than the end. Key times are
 // float32 (glTF accessors), so start and end each carry up to 2^-24 of their magnitude in
 // rounding: twice that is the slack (in frames), so a clip whose last key is at (F − 1)/fps has
@@ -132,7 +168,8 @@ StatusOr<GlbJsonChunk> CheckGlbContainer(std::string_view glb) {
   if (glb.size() < 12 || u32(0) != 0x46546C67u) {
     return ParseError("not a GLB file (it does not start with the glTF magic)");
   }
-  if (u32(4) != 2) return UnsupportedError("GLB container version " + std::to_string(u32(4)));
+  if (u32(4) == 1) return UnsupportedError("a glTF 1.0 binary file (dmc reads glTF 2.0)");
+  if (u32(4) != 2) return ParseError("GLB container version " + std::to_string(u32(4)));
   if (u32(8) != glb.size()) {
     return ParseError("the GLB header declares " + std::to_string(u32(8)) +
                       " bytes, the file has " + std::to_string(glb.size()) + " (truncated?)");
@@ -247,13 +284,14 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
   GltfReadOptions options = requested;
   if (options.frame_rate == 0) {
     const tinygltf::Value& recorded = Member(dmc_extras, "frame_rate");
-    options.frame_rate = recorded.IsNumber() && recorded.GetNumberAsDouble() > 0
-                             ? recorded.GetNumberAsDouble()
-                             : kDefaultFrameRate;
+    if (recorded.IsNumber() && recorded.GetNumberAsDouble() > 0) {
+      options.frame_rate = recorded.GetNumberAsDouble();
+    }
   }
   // A dmc "frames" export shows one mesh per frame in turn; its sequence is those meshes.
   const tinygltf::Value& layout = Member(dmc_extras, "layout");
   if (layout.IsString() && layout.Get<std::string>() == "frames" && options.mesh.empty()) {
+    if (options.frame_rate == 0) options.frame_rate = kDefaultFrameRate;
     return ReadFramesExport(model, options, max_frames);
   }
   GltfImport result;
@@ -263,6 +301,10 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
   DMC_ASSIGN_OR_RETURN(const auto inverse_binds,
                        gltf::InverseBindMatrices(model, primitives.instances));
   DMC_ASSIGN_OR_RETURN(const Clip clip, LoadClip(model, options.animation));
+  if (options.frame_rate == 0) {
+    const double key_rate = UniformKeyRate(clip);
+    options.frame_rate = key_rate > 0 ? key_rate : kDefaultFrameRate;
+  }
   DMC_ASSIGN_OR_RETURN(const int frame_count, ClipFrameCount(clip, options.frame_rate, max_frames));
 
   MeshSequence sequence(primitives.vertex_total, gltf::ToTriangles(primitives.triangles),

@@ -311,5 +311,45 @@ TEST(GltfPoseTest, BrokenFilesAreParseErrors) {
   EXPECT_EQ(PoseGltfModel(empty.model, AtFps(30)).status().code(), ErrorCode::kUnsupported);
 }
 
+// Without a requested or recorded rate, a baked clip (keys on one grid of 12 to 240 per second)
+// is sampled at its key rate; sparser or irregular keys at 30 fps.
+TEST(GltfPoseTest, UniformKeysSetTheDefaultRate) {
+  struct Case {
+    std::vector<float> times;
+    double expected_rate;
+  };
+  auto grid = [](int keys, double rate, double start) {
+    std::vector<float> times;
+    for (int k = 0; k < keys; ++k) times.push_back(static_cast<float>(start + k / rate));
+    return times;
+  };
+  const std::vector<Case> cases = {
+      {grid(48, 24.0, 1.0 / 24), 24.0},                 // CesiumMan's keying: 1/24 s .. 2 s
+      {grid(31, 30000.0 / 1001, 0.0), 30000.0 / 1001},  // NTSC
+      {grid(100, 60.0, 7.5), 60.0},                     // late start
+      {grid(3, 1.0, 0.0), 30.0},                        // sparse keys: interpolation is the motion
+      {grid(50, 1000.0, 0.0), 30.0},                    // beyond 240 per second
+      {{0.0f, 0.1f, 0.35f, 0.5f}, 30.0},                // irregular
+  };
+  for (const Case& c : cases) {
+    GltfBuilder builder;
+    const int node = builder.MeshNode(UnitTriangle(), {0, 1, 2});
+    std::vector<float> values;
+    for (size_t k = 0; k < c.times.size(); ++k) values.insert(values.end(), {float(k), 0, 0});
+    builder.Channel(node, "translation", "LINEAR", c.times, values, TINYGLTF_TYPE_VEC3);
+    builder.FinishScene();
+    auto posed = PoseGltfModel(builder.model, GltfReadOptions{});
+    ASSERT_TRUE(posed.ok()) << posed.status().ToString();
+    EXPECT_DOUBLE_EQ(posed->sequence.frame_rate, c.expected_rate) << c.times.size() << " keys";
+    if (c.expected_rate != 30.0) {
+      // Sampling at the key rate gives the keys themselves.
+      ASSERT_EQ(posed->sequence.frame_count(), static_cast<int>(c.times.size()));
+      for (int f = 0; f < posed->sequence.frame_count(); ++f) {
+        EXPECT_NEAR(posed->sequence.frame(f)(0, 0), f, 1e-4) << "frame " << f;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dmc
