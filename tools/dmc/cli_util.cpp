@@ -131,8 +131,9 @@ void AddGltfReadOptions(CLI::App* app, GltfReadFlags* flags, std::string_view ap
       app->add_option("--gltf-mesh", options.mesh,
                       prefix + ": only this mesh or node (all its primitives; default: every "
                                "mesh of the scene)"),
-      app->add_option("--gltf-animation", options.animation,
-                      prefix + ": animation name or index (default: the first)"),
+      app->add_option(
+          "--gltf-animation", options.animation,
+          prefix + ": animation name or index, or all (default: all, one after the other)"),
       app->add_flag("--gltf-weld", options.weld,
                     prefix + ": weld seam-split vertices (same position, different UV/normal)"),
   };

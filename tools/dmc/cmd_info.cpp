@@ -138,6 +138,13 @@ int RunInfo(const InfoArgs& args) {
           {"diagonal", box.diagonal()}}},
         {"warnings", report.warnings},
     };
+    if (!report.clips.empty()) {
+      out["clips"] = nlohmann::json::array();
+      for (const ClipInfo& clip : report.clips) {
+        out["clips"].push_back(
+            {{"name", clip.name}, {"first_frame", clip.first_frame}, {"frames", clip.frame_count}});
+      }
+    }
     PrintJson(out);
     return 0;
   }
@@ -161,6 +168,12 @@ int RunInfo(const InfoArgs& args) {
       fmt::format("[{:.6g}, {:.6g}, {:.6g}] to [{:.6g}, {:.6g}, {:.6g}]", box.min.x(), box.min.y(),
                   box.min.z(), box.max.x(), box.max.y(), box.max.z()));
   row("diagonal", fmt::format("{:.6g}", box.diagonal()));
+  for (size_t c = 0; c < report.clips.size(); ++c) {
+    const ClipInfo& clip = report.clips[c];
+    row(c == 0 ? "clips" : "",
+        fmt::format("{}: frames {}..{}", clip.name.empty() ? "#" + std::to_string(c) : clip.name,
+                    clip.first_frame, clip.first_frame + clip.frame_count - 1));
+  }
   return 0;
 }
 

@@ -52,7 +52,10 @@ struct GltfReadOptions {
   // Empty: every mesh node of the default scene, all primitives, concatenated in scene order.
   // Otherwise only nodes whose mesh or node name equals this (all primitives of that mesh).
   std::string mesh;
-  std::string animation;  // animation name, or its index ("0", "1", ...); empty = the first
+  // Empty or "all": every animation, one after the other, each sampled from its own start
+  // (ReadReport::clips says where each begins); otherwise the animation of that name, or of that
+  // index ("0", "1", ...; a clip named "all" is chosen by its index).
+  std::string animation;
   // Merge vertices split only by seams (same position in every frame within 1e-6 of the bounding
   // box diagonal, different UV/normal); ReadReport::vertex_map keeps file vertex -> merged vertex.
   // Triangles that collapse (two corners merged) are dropped, with a warning.
@@ -71,8 +74,17 @@ struct ReadOptions {
 
 // Non-fatal findings of a read, one sentence each, e.g.
 // "frame 0 (x.obj): 752 faces with more than 3 corners were fan-triangulated into 1504 triangles".
+// One animation clip of a glTF input within the sequence read from it.
+struct ClipInfo {
+  std::string name;  // the animation's name ("" when it has none)
+  int first_frame = 0;
+  int frame_count = 0;
+};
+
 struct ReadReport {
   std::vector<std::string> warnings;
+  // glTF/GLB only: the clips in frame order; empty for a file without animation.
+  std::vector<ClipInfo> clips;
   // glTF/GLB only: for every vertex of the file (scene order, primitive order), the sequence
   // vertex it became; the identity unless GltfReadOptions::weld merged vertices.
   std::vector<int32_t> vertex_map;

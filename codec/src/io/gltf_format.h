@@ -44,6 +44,7 @@ struct GltfImport {
   // primitives in order, then the primitive's vertices), the sequence vertex it became. Identity
   // unless welding merged vertices.
   std::vector<int32_t> vertex_map;
+  std::vector<ClipInfo> clips;  // in frame order; empty without animation
   std::vector<std::string> warnings;
 };
 

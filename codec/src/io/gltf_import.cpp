@@ -19,6 +19,9 @@ using gltf::Channel;
 
 constexpr double kDefaultFrameRate = 30.0;
 
+// Frames a glTF import may pose, over all its clips.
+constexpr int kMaxGltfFrames = 10'000'000;
+
 // `value[key]`, or a null value when `value` is not an object or has no such member (tinygltf's
 // Value::Get asserts on non-objects).
 const tinygltf::Value& Member(const tinygltf::Value& value, const char* key) {
@@ -74,16 +77,18 @@ StatusOr<GltfImport> ReadFramesExport(const tinygltf::Model& model, const GltfRe
 
 // The animation's channels and the time span they cover (0, 0 without an animation).
 struct Clip {
+  std::string name;
   std::vector<Channel> channels;
   double start = 0.0;
   double end = 0.0;
+  bool animated = true;  // false: the file has no animation (one frame of the static scene)
 };
 
-StatusOr<Clip> LoadClip(const tinygltf::Model& model, const std::string& animation_name) {
-  DMC_ASSIGN_OR_RETURN(const int animation_index, gltf::FindAnimation(model, animation_name));
+StatusOr<Clip> LoadClip(const tinygltf::Model& model, int animation_index) {
   Clip clip;
   if (animation_index < 0) return clip;
   const tinygltf::Animation& animation = model.animations[static_cast<size_t>(animation_index)];
+  clip.name = animation.name;
   DMC_ASSIGN_OR_RETURN(
       clip.channels,
       gltf::LoadChannels(model, animation, "animation " + std::to_string(animation_index)));
@@ -94,6 +99,25 @@ StatusOr<Clip> LoadClip(const tinygltf::Model& model, const std::string& animati
     first = false;
   }
   return clip;
+}
+
+// The clips `wanted` names: every animation for "" or "all", else the one FindAnimation picks;
+// one empty clip (a single frame of the static scene) when the file has no animation.
+StatusOr<std::vector<Clip>> LoadClips(const tinygltf::Model& model, const std::string& wanted) {
+  std::vector<Clip> clips;
+  if ((wanted.empty() || wanted == "all") && !model.animations.empty()) {
+    for (size_t a = 0; a < model.animations.size(); ++a) {
+      DMC_ASSIGN_OR_RETURN(Clip clip, LoadClip(model, static_cast<int>(a)));
+      clips.push_back(std::move(clip));
+    }
+    return clips;
+  }
+  DMC_ASSIGN_OR_RETURN(const int animation_index,
+                       gltf::FindAnimation(model, wanted == "all" ? std::string() : wanted));
+  DMC_ASSIGN_OR_RETURN(Clip clip, LoadClip(model, animation_index));
+  clip.animated = animation_index >= 0;
+  clips.push_back(std::move(clip));
+  return clips;
 }
 
 // The rate the clip is keyed at when every key of every channel lies on one grid of period 1/r
@@ -139,7 +163,9 @@ double UniformKeyRate(const Clip& clip) {
 // slack).
 StatusOr<int> ClipFrameCount(const Clip& clip, double frame_rate, int max_frames) {
   const double span = (clip.end - clip.start) * frame_rate;
-  if (span > 1e7) return InvalidArgumentError("the animation would need more than 10^7 frames");
+  if (span > kMaxGltfFrames) {
+    return InvalidArgumentError("the animation would need more than 10^7 frames");
+  }
   const double slack =
       std::ldexp(std::abs(clip.start) + std::abs(clip.end), -23) * frame_rate + 1e-9;
   int frame_count = static_cast<int>(std::floor(span + slack)) + 1;
@@ -300,20 +326,42 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
                        gltf::CollectPrimitives(model, scene.order, options.mesh, result.warnings));
   DMC_ASSIGN_OR_RETURN(const auto inverse_binds,
                        gltf::InverseBindMatrices(model, primitives.instances));
-  DMC_ASSIGN_OR_RETURN(const Clip clip, LoadClip(model, options.animation));
+  DMC_ASSIGN_OR_RETURN(const std::vector<Clip> clips, LoadClips(model, options.animation));
   if (options.frame_rate == 0) {
-    const double key_rate = UniformKeyRate(clip);
+    // One rate for the sequence: the clips' common key rate, else the default.
+    double key_rate = UniformKeyRate(clips.front());
+    for (const Clip& clip : clips) {
+      if (UniformKeyRate(clip) != key_rate) key_rate = 0;
+    }
     options.frame_rate = key_rate > 0 ? key_rate : kDefaultFrameRate;
   }
-  DMC_ASSIGN_OR_RETURN(const int frame_count, ClipFrameCount(clip, options.frame_rate, max_frames));
+  std::vector<int> clip_frames;
+  int frame_count = 0;
+  for (const Clip& clip : clips) {
+    const int remaining = max_frames > 0 ? max_frames - frame_count : 0;
+    if (max_frames > 0 && remaining <= 0) break;
+    DMC_ASSIGN_OR_RETURN(const int frames, ClipFrameCount(clip, options.frame_rate, remaining));
+    if (frame_count > kMaxGltfFrames - frames) {
+      return InvalidArgumentError("the animations would need more than 10^7 frames");
+    }
+    clip_frames.push_back(frames);
+    frame_count += frames;
+  }
 
   MeshSequence sequence(primitives.vertex_total, gltf::ToTriangles(primitives.triangles),
                         frame_count);
   sequence.frame_rate = options.frame_rate;
-  gltf::ScenePoser poser(model, scene, primitives.instances, inverse_binds, clip.channels);
-  for (int f = 0; f < frame_count; ++f) {
-    DMC_RETURN_IF_ERROR(poser.Pose(clip.start + f / options.frame_rate, sequence.frame(f))
-                            .WithContext("frame " + std::to_string(f)));
+  int first_frame = 0;
+  for (size_t c = 0; c < clip_frames.size(); ++c) {
+    const Clip& clip = clips[c];
+    gltf::ScenePoser poser(model, scene, primitives.instances, inverse_binds, clip.channels);
+    for (int f = 0; f < clip_frames[c]; ++f) {
+      DMC_RETURN_IF_ERROR(
+          poser.Pose(clip.start + f / options.frame_rate, sequence.frame(first_frame + f))
+              .WithContext("frame " + std::to_string(first_frame + f)));
+    }
+    if (clip.animated) result.clips.push_back({clip.name, first_frame, clip_frames[c]});
+    first_frame += clip_frames[c];
   }
   result.sequence = std::move(sequence);
   result.vertex_map.resize(static_cast<size_t>(primitives.vertex_total));

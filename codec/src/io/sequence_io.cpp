@@ -355,7 +355,10 @@ StatusOr<MeshSequence> ReadSequenceUnguarded(const std::filesystem::path& input,
     auto imported = io_internal::ReadGltf(input, options.gltf, options.max_frames);
     if (!imported.ok()) return imported.status();
     warnings.insert(warnings.end(), imported->warnings.begin(), imported->warnings.end());
-    if (report != nullptr) report->vertex_map = std::move(imported->vertex_map);
+    if (report != nullptr) {
+      report->vertex_map = std::move(imported->vertex_map);
+      report->clips = std::move(imported->clips);
+    }
     sequence = std::move(imported->sequence);
     if (options.progress) options.progress(sequence->frame_count(), sequence->frame_count());
   } else {

@@ -351,5 +351,51 @@ TEST(GltfPoseTest, UniformKeysSetTheDefaultRate) {
   }
 }
 
+// Every clip by default, one after the other, each from its own start; "all" says the same; a
+// name or an index picks one.
+TEST(GltfPoseTest, EveryClipIsPosedInTurn) {
+  GltfBuilder builder;
+  const int node = builder.MeshNode(UnitTriangle(), {0, 1, 2});
+  // "slide": x from 0 to 3 over 0..1 s; "lift": y from 0 to 2 over 5..5.5 s.
+  builder.Channel(node, "translation", "LINEAR", {0, 1}, {0, 0, 0, 3, 0, 0}, TINYGLTF_TYPE_VEC3);
+  builder.model.animations.back().name = "slide";
+  builder.model.animations.emplace_back();
+  builder.Channel(node, "translation", "LINEAR", {5, 5.5f}, {0, 0, 0, 0, 2, 0}, TINYGLTF_TYPE_VEC3);
+  builder.model.animations.back().name = "lift";
+  builder.FinishScene();
+  for (const char* wanted : {"", "all"}) {
+    GltfReadOptions options = AtFps(4);
+    options.animation = wanted;
+    auto posed = PoseGltfModel(builder.model, options);
+    ASSERT_TRUE(posed.ok()) << posed.status().ToString();
+    ASSERT_EQ(posed->clips.size(), 2u);
+    EXPECT_EQ(posed->clips[0].name, "slide");
+    EXPECT_EQ(posed->clips[0].first_frame, 0);
+    EXPECT_EQ(posed->clips[0].frame_count, 5);  // 0, 0.25, ..., 1 s
+    EXPECT_EQ(posed->clips[1].name, "lift");
+    EXPECT_EQ(posed->clips[1].first_frame, 5);
+    EXPECT_EQ(posed->clips[1].frame_count, 3);  // 5, 5.25, 5.5 s
+    ASSERT_EQ(posed->sequence.frame_count(), 8);
+    EXPECT_NEAR(posed->sequence.frame(4)(0, 0), 3.0, 1e-6);  // the end of "slide"
+    EXPECT_NEAR(posed->sequence.frame(5)(0, 1), 0.0, 1e-6);  // "lift" from its own start
+    EXPECT_NEAR(posed->sequence.frame(7)(0, 1), 2.0, 1e-6);
+  }
+  GltfReadOptions one = AtFps(4);
+  one.animation = "lift";
+  auto lift = PoseGltfModel(builder.model, one);
+  ASSERT_TRUE(lift.ok());
+  ASSERT_EQ(lift->clips.size(), 1u);
+  EXPECT_EQ(lift->clips[0].name, "lift");
+  EXPECT_EQ(lift->sequence.frame_count(), 3);
+  one.animation = "0";
+  EXPECT_EQ(PoseGltfModel(builder.model, one)->clips[0].name, "slide");
+  // max_frames counts across the clips.
+  auto cut = PoseGltfModel(builder.model, AtFps(4), 6);
+  ASSERT_TRUE(cut.ok());
+  EXPECT_EQ(cut->sequence.frame_count(), 6);
+  ASSERT_EQ(cut->clips.size(), 2u);
+  EXPECT_EQ(cut->clips[1].frame_count, 1);
+}
+
 }  // namespace
 }  // namespace dmc

@@ -256,5 +256,22 @@ TEST(GltfSamplesTest, CesiumManRoundTripsThroughTheCodecAndGlb) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(GltfSamplesTest, EveryClipIsReadWithItsName) {
+  DMC_REQUIRE_SHARED_DATA(fox, "fox/Fox.glb");
+  ReadReport report;
+  auto sequence = ReadSequence(fox, {}, &report);
+  ASSERT_TRUE(sequence.ok()) << sequence.status().ToString();
+  ASSERT_EQ(report.clips.size(), 3u);
+  EXPECT_EQ(report.clips[0].name, "Survey");
+  EXPECT_EQ(report.clips[1].name, "Walk");
+  EXPECT_EQ(report.clips[2].name, "Run");
+  int frames = 0;
+  for (const ClipInfo& clip : report.clips) {
+    EXPECT_EQ(clip.first_frame, frames);
+    frames += clip.frame_count;
+  }
+  EXPECT_EQ(frames, sequence->frame_count());
+}
+
 }  // namespace
 }  // namespace dmc
