@@ -35,6 +35,7 @@
 #include "dmc/encoder_options.h"
 #include "dmc/synth.h"
 #include "encoder/range_encoder.h"
+#include "encoder/stream_writer.h"
 #include "encoder/syntax_writer.h"
 #include "entropy/byte_io.h"
 #include "kit/vector_kit.h"
@@ -177,14 +178,59 @@ struct ValidVector {
   bool mixed_operators = false;  // meant to cover segments of different operators; otherwise
                                  // every segment has the requested operator
   bool step_shaped = false;      // meant to cover non-zero step exponents (1.2, spec §8.5.1)
+  // A scene chunk (1.3, spec §6.3) inserted third: its payload (ScenePayload's, or hand-made).
+  std::vector<uint8_t> scene_payload;
+  std::vector<uint8_t> scene;  // what it decompresses to
 };
+
+// A minimal glTF binary: the content of the scene vectors (opaque to decoding, spec §6.3).
+std::vector<uint8_t> MinimalGlb() {
+  std::string json = R"({"asset":{"version":"2.0","generator":"dmc conformance"}})";
+  while (json.size() % 4 != 0) json.push_back(' ');
+  ByteWriter out;
+  out.PutU32(0x46546C67u);  // "glTF"
+  out.PutU32(2);
+  out.PutU32(static_cast<uint32_t>(20 + json.size()));
+  out.PutU32(static_cast<uint32_t>(json.size()));
+  out.PutU32(0x4E4F534Au);  // "JSON"
+  out.PutBytes(std::vector<uint8_t>(json.begin(), json.end()));
+  return out.Take();
+}
+
+// The scene chunk's payload storing `scene` uncompressed (compression 0).
+std::vector<uint8_t> StoredScenePayload(const std::vector<uint8_t>& scene) {
+  ByteWriter out;
+  out.PutU8(format::kSceneKindGlb);
+  out.PutU8(format::kSceneStored);
+  out.PutVarU(scene.size());
+  out.PutBytes(scene);
+  return out.Take();
+}
+
+// `stream` with a scene chunk of `payload` third, the end chunk counting it.
+StatusOr<std::vector<uint8_t>> WithScene(const std::vector<uint8_t>& stream,
+                                         const std::vector<uint8_t>& payload) {
+  DMC_ASSIGN_OR_RETURN(Framed framed, SplitFramed(stream));
+  framed.chunks.insert(framed.chunks.begin() + 2,
+                       Chunk{static_cast<uint8_t>(ChunkType::kScene), payload, 0});
+  ByteWriter count;
+  count.PutVarU(framed.chunks.size() - 1);
+  framed.chunks.back().payload = count.Take();
+  return JoinFramed(framed);
+}
 
 std::vector<ValidVector> ValidVectors() {
   std::vector<ValidVector> vectors;
   auto add = [&](std::string name, std::string description, Source source, EncoderOptions options,
                  ConnectivityMethod method, int minimum_segments = 1) {
-    vectors.push_back({std::move(name), std::move(description), std::move(source), options,
-                       static_cast<int>(method), minimum_segments});
+    ValidVector vector;
+    vector.name = std::move(name);
+    vector.description = std::move(description);
+    vector.source = std::move(source);
+    vector.options = options;
+    vector.expected_connectivity_method = static_cast<int>(method);
+    vector.minimum_segments = minimum_segments;
+    vectors.push_back(std::move(vector));
   };
   add("twist_ddl", "closed genus-0 tube, symmetric DDL operator, default parameters",
       Synth("twist", 300, 10), Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
@@ -287,6 +333,18 @@ std::vector<ValidVector> ValidVectors() {
         GradedGrid(33, 10), options, ConnectivityMethod::kDracoWithVertexOrder);
     vectors.back().step_shaped = true;
   }
+  {
+    add("cloth_scene_zstd",
+        "a scene chunk (1.3) third: a minimal glTF binary, zstd-compressed as the encoder writes "
+        "it",
+        Synth("cloth", 150, 4, 11), Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
+    vectors.back().scene = MinimalGlb();
+    vectors.back().scene_payload = ScenePayload(vectors.back().scene).value();
+    add("cloth_scene_stored", "a scene chunk (1.3) third, stored uncompressed (compression 0)",
+        Synth("cloth", 150, 4, 12), Options("tutte"), ConnectivityMethod::kDracoWithVertexOrder);
+    vectors.back().scene = MinimalGlb();
+    vectors.back().scene_payload = StoredScenePayload(vectors.back().scene);
+  }
   return vectors;
 }
 
@@ -322,7 +380,12 @@ Status KeepOlderVersion(const fs::path& directory, const std::string& name) {
 
 Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
   DMC_ASSIGN_OR_RETURN(const MeshSequence sequence, vector.source.make());
-  DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> stream, Encode(sequence, vector.options));
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> stream, Encode(sequence, vector.options));
+  if (!vector.scene_payload.empty()) {
+    DMC_ASSIGN_OR_RETURN(stream, WithScene(stream, vector.scene_payload));
+    DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> scene, DecodeScene(stream, kNoCallerLimit));
+    if (scene != vector.scene) return InternalError(vector.name + ": the scene does not decode");
+  }
   DMC_ASSIGN_OR_RETURN(const MeshSequence decoded, Decode(stream, kNoCallerLimit));
   DMC_ASSIGN_OR_RETURN(const StreamInfo info, ReadStreamInfo(stream));
   DMC_ASSIGN_OR_RETURN(const SyntaxDigests digests, ComputeSyntaxDigests(stream));
@@ -377,7 +440,7 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
   for (int f = 0; f < decoded.frame_count(); ++f)
     frame_hashes.push_back(HashHex(FrameHash(decoded, f)));
   const std::string positions_file = vector.name + ".ref.zst";
-  const Json manifest = {
+  Json manifest = {
       {"kind", "valid"},
       {"format_version", VersionText()},
       {"generated", true},
@@ -402,6 +465,10 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
         {"diagonal", SequenceDiagonal(decoded)},
         {"tolerance", "|x - r| <= 2^-20 * diagonal + 2^-22 * |r|"},
         {"frame_xxh64", frame_hashes}}}};
+  if (!vector.scene.empty()) {
+    manifest["scene"] = {{"bytes", vector.scene.size()},
+                         {"xxh64", HashHex(XXH64(vector.scene.data(), vector.scene.size(), 0))}};
+  }
   DMC_RETURN_IF_ERROR(WriteBytes(directory / (vector.name + ".dmc"), stream));
   DMC_RETURN_IF_ERROR(WriteBytes(directory / positions_file, CompressPositions(decoded)));
   DMC_RETURN_IF_ERROR(WriteJson(directory / (vector.name + ".json"), manifest));
@@ -611,8 +678,63 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   add("chunk_order_swapped", "mean and basis chunks swapped (each with a valid checksum)", ddl,
       Edited(ddl, [](Framed& f) { std::swap(f.chunks[kMeanChunk], f.chunks[kBasisChunk]); }),
       kCorrupt, kCorrupt);
-  add("chunk_type_unknown", "operator chunk carries the unassigned type 9", ddl,
-      Edited(ddl, [](Framed& f) { f.chunks[kOperatorChunk].type = 9; }), kCorrupt, kCorrupt);
+  add("chunk_type_unknown", "operator chunk carries the unassigned type 10", ddl,
+      Edited(ddl, [](Framed& f) { f.chunks[kOperatorChunk].type = 10; }), kCorrupt, kCorrupt);
+  add("scene_chunk_at_operator", "operator chunk carries type 9 (scene): a scene only goes third",
+      ddl, Edited(ddl, [](Framed& f) { f.chunks[kOperatorChunk].type = 9; }), kCorrupt, kCorrupt);
+
+  // --- The scene chunk (1.3, spec §6.3), each built from a valid scene inserted third.
+  {
+    const std::vector<uint8_t> glb = MinimalGlb();
+    const std::vector<uint8_t> zstd = ScenePayload(glb).value();
+    auto scene_stream = [&](std::vector<uint8_t> payload) { return WithScene(s, payload).value(); };
+    auto patched = [&](size_t at, uint8_t value) {
+      std::vector<uint8_t> payload = zstd;
+      payload[at] = value;
+      return scene_stream(payload);
+    };
+    add("scene_kind_unknown", "scene kind 2 (only 1, glTF binary, is defined)", ddl, patched(0, 2),
+        kCorrupt, kCorrupt);
+    add("scene_compression_unknown", "scene compression 2 (0 stored, 1 zstd)", ddl, patched(1, 2),
+        kCorrupt, kCorrupt);
+    add("scene_size_zero", "scene size 0", ddl, scene_stream({1, 0, 0}), kCorrupt, kCorrupt);
+    {
+      std::vector<uint8_t> payload = StoredScenePayload(glb);
+      payload.pop_back();
+      add("scene_stored_short", "a stored scene one byte shorter than its size", ddl,
+          scene_stream(payload), kCorrupt, kCorrupt);
+    }
+    add("scene_truncated_fields", "the scene payload ends inside its size varint", ddl,
+        scene_stream({1, 1, 0x80}), kTruncated, kTruncated);
+    {
+      // The size field is the varint after kind and compression: one more than the frame states.
+      std::vector<uint8_t> payload = zstd;
+      payload[2] = static_cast<uint8_t>(payload[2] + 1);
+      add("scene_zstd_size_mismatch",
+          "the scene's size is one more than its zstd frame's content size; only decompressing "
+          "shows it",
+          ddl, scene_stream(payload), kCorrupt, kOk);
+    }
+    {
+      std::vector<uint8_t> payload = zstd;
+      payload.push_back(0);
+      add("scene_zstd_trailing", "a byte after the scene's zstd frame", ddl, scene_stream(payload),
+          kCorrupt, kOk);
+    }
+    {
+      std::vector<uint8_t> payload = zstd;
+      payload.resize(payload.size() - 3);
+      add("scene_zstd_cut", "the scene's zstd frame lacks its last 3 bytes", ddl,
+          scene_stream(payload), kCorrupt, kOk);
+    }
+    {
+      std::vector<uint8_t> stream = scene_stream(zstd);
+      stream[5] = 2;  // minor version 2, checksums recomputed for it
+      Framed framed = SplitFramed(stream).value();
+      add("scene_in_1_2_stream", "a scene chunk third in a 1.2 stream, where type 9 is unassigned",
+          ddl, JoinFramed(framed), kCorrupt, kCorrupt);
+    }
+  }
   add("chunk_type_zero", "operator chunk carries the reserved type 0", ddl,
       Edited(ddl, [](Framed& f) { f.chunks[kOperatorChunk].type = 0; }), kCorrupt, kCorrupt);
   add("end_chunk_missing", "the end chunk is absent", ddl,

@@ -107,6 +107,19 @@ VectorResult CheckValid(const Json& manifest, const std::filesystem::path& direc
 
   StatusOr<StreamInfo> info = ReadStreamInfo(*stream);
   if (!info.ok()) return Fail(result, "ReadStreamInfo failed: " + info.status().ToString());
+  // Format 1.3: the scene decompresses to the manifest's bytes (§6.3).
+  StatusOr<std::vector<uint8_t>> scene = DecodeScene(*stream, kNoCallerLimit);
+  if (!scene.ok()) return Fail(result, "DecodeScene failed: " + scene.status().ToString());
+  if (manifest.contains("scene")) {
+    const StatusOr<uint64_t> expected_scene = ParseHashHex(manifest.at("scene").at("xxh64"));
+    if (!expected_scene.ok()) return Fail(result, expected_scene.status().ToString());
+    if (scene->size() != manifest.at("scene").at("bytes").get<size_t>() ||
+        XXH64(scene->data(), scene->size(), 0) != *expected_scene) {
+      return Fail(result, "the decompressed scene differs from the manifest's");
+    }
+  } else if (!scene->empty()) {
+    return Fail(result, "the stream has a scene the manifest does not list");
+  }
   const Json& segments = manifest.at("segments");
   if (info->segments.size() != segments.size() ||
       info->reordered != manifest.at("reordered").get<bool>()) {
@@ -275,10 +288,11 @@ StatusOr<ParsedStream> ParseStream(std::span<const uint8_t> stream) {
   DMC_ASSIGN_OR_RETURN(parsed.triangles, DecodeConnectivity(chunks[1].payload, header.vertex_count,
                                                             header.triangle_count, version_minor));
   const int v_count = static_cast<int>(header.vertex_count);
+  parsed.first_segment_chunk = info.scene_bytes > 0 ? 3 : 2;
   parsed.topology = BuildTopology(parsed.triangles, v_count);
   parsed.vertex_order = format::BreadthFirstOrder(parsed.topology);
   for (size_t s = 0; s < info.segments.size(); ++s) {
-    const size_t base = 2 + 6 * s;
+    const size_t base = parsed.first_segment_chunk + 6 * s;
     const auto first_frame = static_cast<uint32_t>(info.segments[s].first_frame);
     SegmentSyntax syntax;
     DMC_ASSIGN_OR_RETURN(syntax.header,
@@ -343,7 +357,8 @@ StatusOr<SyntaxDigests> ComputeSyntaxDigests(std::span<const uint8_t> stream) {
     for (const int64_t weight : syntax.edge_weights) digest.Add(weight);
     if (format::IsGeometricOperator(h.operator_id)) {
       // The reference frame's step is the operator payload's leading f64 (spec §8.4).
-      const std::vector<uint8_t>& payload = parsed.framed.chunks[2 + 6 * segment + 3].payload;
+      const std::vector<uint8_t>& payload =
+          parsed.framed.chunks[parsed.first_segment_chunk + 6 * segment + 3].payload;
       if (payload.size() < 8) return TruncatedStreamError("reference frame step");
       uint64_t step_bits = 0;
       for (int i = 0; i < 8; ++i) step_bits |= uint64_t{payload[i]} << (8 * i);

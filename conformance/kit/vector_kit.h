@@ -63,6 +63,7 @@ std::vector<uint8_t> JoinFramed(const Framed& framed, bool recompute_checksums =
 // and what the generator edits to make invalid vectors.
 struct ParsedStream {
   Framed framed;
+  size_t first_segment_chunk = 2;  // 3 after a scene chunk (format 1.3, spec §4.4)
   format::SequenceHeader header;
   Triangles triangles;
   MeshTopology topology;

@@ -76,8 +76,10 @@ py::dict ReportToDict(const EncodeReport& report, const EncoderOptions& options)
   breakdown["operator"] = report.operator_bytes;
   breakdown["anchors"] = report.anchor_bytes;
   breakdown["residuals"] = report.residual_bytes;
+  breakdown["scene"] = report.scene_bytes;
   py::dict out;
   out["bpfv"] = report.bpfv;
+  out["positions_bpfv"] = report.positions_bpfv;
   out["bytes"] = report.bytes;
   out["frames"] = report.frames;
   out["vertices"] = report.vertices;

@@ -20,6 +20,8 @@ struct DecodeArgs {
   std::string glb_layout = "auto";
   std::string glb_encoding = "compact";
   bool glb_float = false;
+  bool no_scene = false;
+  std::string clip;
   int segment = -1;
   bool json = false;
   bool progress = false;
@@ -96,6 +98,20 @@ int RunDecode(const DecodeArgs& args) {
   write_options.frame_format = args.frame_format;
   write_options.glb_layout = args.glb_layout;
   write_options.glb_encoding = args.glb_float ? "float" : args.glb_encoding;
+  if (LowercaseExtension(args.output) == ".glb" && !args.no_scene) {
+    // A glTF input's scene (format 1.3) comes back around the motion.
+    auto scene = DecodeScene(*bytes, options);
+    if (!scene.ok()) {
+      return ReportError("decode", scene.status().WithContext(args.input), args.json);
+    }
+    write_options.scene = std::move(scene).value();
+  }
+  if (!args.clip.empty() && write_options.scene.empty()) {
+    return ReportError("decode",
+                       InvalidArgumentError("--clip needs a .glb output of a stream with a scene"),
+                       args.json);
+  }
+  write_options.clip = args.clip;
   std::optional<Progress> write_progress;
   write_options.progress = [&](int done, int total) {
     if (!write_progress) write_progress.emplace("writing", total, args.progress);
@@ -136,6 +152,11 @@ Command AddDecodeCommand(CLI::App& parent) {
       ->check(CLI::IsMember({"compact", "quantized", "float"}))
       ->capture_default_str();
   app->add_flag("--float", args->glb_float, "Same as --glb-encoding float");
+  app->add_flag("--no-scene", args->no_scene,
+                "A .glb output with the motion alone, leaving out the stream's scene (nodes, "
+                "materials, textures, UVs, clips)");
+  app->add_option("--clip", args->clip,
+                  "A .glb output of a stream with a scene: only this clip (dmc info lists them)");
   app->add_option("--segment", args->segment, "Decode only this segment (0-based)");
   app->add_option("--max-memory", args->max_memory,
                   "Refuse a stream whose decoded output (12 bytes per vertex and frame, 12 per "

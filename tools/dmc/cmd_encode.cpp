@@ -30,6 +30,7 @@ struct EncodeArgs {
   GltfReadFlags gltf;
   bool json = false;
   bool progress = false;
+  bool no_scene = false;
 };
 
 // Encodes with EncodeStreaming: a PC2 cache is read segment by segment (memory bounded by one
@@ -69,6 +70,11 @@ Status EncodeInput(const EncodeArgs& args, const EncoderOptions& options, Encode
   for (const auto& warning : read_report.warnings) ReportWarning("encode", warning);
   SequenceFrameSource source(sequence);
   StreamingEncodeOptions streaming;
+  if (IsGltfPath(args.input) && !args.no_scene) {
+    // What the glTF holds besides motion travels in the stream's scene chunk.
+    DMC_ASSIGN_OR_RETURN(streaming.scene, BuildGltfScene(args.input, read_options, read_report,
+                                                         sequence.vertex_count()));
+  }
   streaming.segments_in_flight =
       static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   streaming.progress = [&](EncodeStage stage, int done, int total) {
@@ -118,12 +124,13 @@ int RunEncode(const EncodeArgs& args) {
   if (!status.ok()) return ReportError("encode", status, args.json);
 
   const nlohmann::json breakdown = {
-      {"header", report.header_bytes},     {"connectivity", report.connectivity_bytes},
-      {"mean", report.mean_bytes},         {"basis", report.basis_bytes},
-      {"operator", report.operator_bytes}, {"anchors", report.anchor_bytes},
-      {"residuals", report.residual_bytes}};
+      {"header", report.header_bytes},      {"connectivity", report.connectivity_bytes},
+      {"mean", report.mean_bytes},          {"basis", report.basis_bytes},
+      {"operator", report.operator_bytes},  {"anchors", report.anchor_bytes},
+      {"residuals", report.residual_bytes}, {"scene", report.scene_bytes}};
   if (args.json) {
     nlohmann::json out = {{"bpfv", report.bpfv},
+                          {"positions_bpfv", report.positions_bpfv},
                           {"bytes", report.bytes},
                           {"frames", report.frames},
                           {"vertices", report.vertices},
@@ -167,9 +174,14 @@ int RunEncode(const EncodeArgs& args) {
   }
   fmt::print("  bpfv by element:");
   for (const auto& [name, bytes] : breakdown.items()) {
+    if (name == "scene" && report.scene_bytes == 0) continue;
     fmt::print(" {} {:.4f}", name, bytes.get<double>() * scale);
   }
   fmt::print("\n");
+  if (report.scene_bytes > 0) {
+    fmt::print("  scene {} bytes; positions alone {:.4f} bpfv\n", report.scene_bytes,
+               report.positions_bpfv);
+  }
   return 0;
 }
 
@@ -216,6 +228,9 @@ Command AddEncodeCommand(CLI::App& parent) {
   app->add_option("-o,--output", args->output, "Output .dmc file")->required();
   app->add_option("--connectivity", args->connectivity, "PC2 only: mesh giving the triangles");
   AddGltfReadOptions(app, &args->gltf);
+  app->add_flag("--no-scene", args->no_scene,
+                "glTF input: leave out the scene chunk (nodes, materials, textures, UVs, clips; "
+                "decoding then writes the motion alone)");
   AddEncoderOptions(app, args->options);
   app->add_flag("--json", args->json, "Machine-readable output");
   app->add_flag("--progress", args->progress,

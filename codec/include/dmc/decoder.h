@@ -50,6 +50,10 @@ struct StreamInfo {
   uint64_t total_bytes = 0;
   uint64_t header_bytes = 0;
   uint64_t connectivity_bytes = 0;
+  // Format 1.3: the scene chunk (what a glTF input holds besides its motion, spec §6.3): its
+  // bytes in the stream (framing included) and once decompressed; 0 without one.
+  uint64_t scene_bytes = 0;
+  uint64_t scene_size = 0;
   std::vector<SegmentInfo> segments;
 };
 
@@ -60,6 +64,7 @@ struct DecoderOptions {
   // triangles for the whole stream (what Decode returns and DecodeToPc2 writes; Decoder::Open
   // checks the whole stream too). A stream above it is refused with kResourceLimit before
   // anything is allocated for it. 0 means no limit beyond the format's 16 GiB.
+  // The scene (format 1.3) counts too.
   uint64_t max_output_bytes = uint64_t{4} << 30;
   // Largest normal matrix LᵀL + anchors and Cholesky factor of one segment (SolverOptions::
   // max_matrix_bytes): their size follows the connectivity's structure, not its size alone (one
@@ -68,7 +73,8 @@ struct DecoderOptions {
   uint64_t max_matrix_bytes = uint64_t{4} << 30;
 };
 
-// 12·V·F + 12·T: the bytes of float32 positions and int32 triangles a stream declares.
+// 12·V·F + 12·T + the scene's size: the bytes of float32 positions, int32 triangles and scene a
+// stream declares.
 uint64_t DeclaredOutputBytes(const StreamInfo& info);
 
 // Parses the container, the headers and the connectivity (verifying checksums and that every
@@ -81,6 +87,12 @@ StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOpti
 StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,
                                   const DecoderOptions& options = {});
 
+// The stream's scene (format 1.3, spec §6.3): a glTF binary (GLB) file with what the encoder's glTF
+// input held besides vertex motion (nodes, materials, textures, UVs, clips; bitstream spec
+// Appendix C), decompressed; empty when the stream has none. Validates the stream as Open does.
+StatusOr<std::vector<uint8_t>> DecodeScene(std::span<const uint8_t> stream,
+                                           const DecoderOptions& options = {});
+
 // Segment-by-segment decoding for bounded memory and seeking: Open parses the container; each
 // DecodeSegment(i) returns the frames of segment i alone (with the shared triangles).
 class Decoder {
@@ -91,6 +103,8 @@ class Decoder {
   const StreamInfo& info() const { return info_; }
   int segment_count() const { return static_cast<int>(info_.segments.size()); }
   const Triangles& triangles() const { return triangles_; }
+  // The decompressed scene (format 1.3), empty without one.
+  const std::vector<uint8_t>& scene() const { return scene_; }
   // Thread-safe: segments may be decoded concurrently.
   StatusOr<MeshSequence> DecodeSegment(int index) const;
 
@@ -113,6 +127,7 @@ class Decoder {
   MeshTopology topology_;
   std::vector<int32_t> vertex_order_;  // residual coding order, shared by all segments
   std::vector<std::vector<ChunkRef>> segment_chunks_;
+  std::vector<uint8_t> scene_;
   uint64_t max_matrix_bytes_ = 0;  // DecoderOptions::max_matrix_bytes
 
   Status OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* options);

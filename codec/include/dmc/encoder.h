@@ -137,6 +137,11 @@ struct EncodeReport {
   // Bytes per syntax element, over all segments (chunk framing included).
   uint64_t header_bytes = 0, connectivity_bytes = 0, mean_bytes = 0, basis_bytes = 0,
            operator_bytes = 0, anchor_bytes = 0, residual_bytes = 0;
+  // The scene chunk (format 1.3; StreamingEncodeOptions::scene), included in bytes and bpfv; 0
+  // without one. positions_bpfv leaves it out: the rate of the motion alone, which rate control's
+  // target_bpfv aims at.
+  uint64_t scene_bytes = 0;
+  double positions_bpfv = 0.0;
   // What rate control chose (of the first segment when they differ).
   int rank = 0;
   int anchors = 0;
@@ -221,6 +226,10 @@ struct StreamingEncodeOptions {
   // runs those analyses one at a time (see DecodeToPc2 in dmc/decoder.h), and the fallback's
   // trial decodes order their normal matrices as the decoder does.
   int segments_in_flight = 1;
+  // What the input holds besides vertex motion, as a glTF binary (GLB) file (dmc::BuildGltfScene
+  // in dmc/io.h), stored zstd-compressed in the stream's scene chunk (format 1.3, spec §6.3) so a
+  // decoder can rebuild the scene; at most 2^30 bytes. Empty: no scene chunk.
+  std::vector<uint8_t> scene;
 };
 
 // Encodes `source` to `output` segment by segment: the header and connectivity first, then each

@@ -76,7 +76,9 @@ struct ReadOptions {
 // "frame 0 (x.obj): 752 faces with more than 3 corners were fan-triangulated into 1504 triangles".
 // One animation clip of a glTF input within the sequence read from it.
 struct ClipInfo {
-  std::string name;  // the animation's name ("" when it has none)
+  std::string name;         // the animation's name ("" when it has none)
+  int animation = -1;       // its index in the file's animations
+  double start_time = 0.0;  // seconds: frame first_frame + k is the clip at start_time + k / fps
   int first_frame = 0;
   int frame_count = 0;
 };
@@ -89,6 +91,21 @@ struct ReadReport {
   // vertex it became; the identity unless GltfReadOptions::weld merged vertices.
   std::vector<int32_t> vertex_map;
 };
+
+// The scene record of a glTF input (what it holds besides vertex motion) as a GLB, for the
+// stream's scene chunk (StreamingEncodeOptions::scene in dmc/encoder.h), so that a decoder can
+// write the input's scene back with the decoded motion (WriteOptions::scene). `options` and
+// `report` are those of the ReadSequence call that read `input`, `stream_vertices` the vertex
+// count of the sequence it gave. Kept: nodes (names, hierarchy, transforms, node animations),
+// meshes with their primitives' indices and other attributes (TEXCOORD_n, COLOR_n, ...),
+// materials, textures, samplers, images in the file, cameras, the asset (copyright, generator),
+// extras. Taken out: the imported primitives' POSITION, NORMAL, TANGENT, JOINTS_n, WEIGHTS_n and
+// morph targets, skins, and the weights animations of imported meshes: the stream carries the
+// motion they made. The record's root extras "dmc_scene" maps the stream back (bitstream spec,
+// Appendix C). Empty for a dmc "frames" export, which holds nothing but frames.
+StatusOr<std::vector<uint8_t>> BuildGltfScene(const std::filesystem::path& input,
+                                              const ReadOptions& options, const ReadReport& report,
+                                              int stream_vertices);
 
 // The extension of `path` in lower case, with its dot (".pc2"; "" when there is none): how every
 // reader and writer of dmc, and the CLI, recognise a file's kind.
@@ -126,6 +143,12 @@ struct WriteOptions {
   //    decoder, e.g. Blender's importer);
   //  - "float": plain float32 positions and normals, positions exact.
   std::string glb_encoding = "compact";
+  // .glb only: a scene record (BuildGltfScene; a stream's scene, dmc::DecodeScene) the sequence
+  // belongs in: the GLB is then the recorded scene (nodes, materials, textures, UVs, node
+  // animations, asset) with the sequence's motion, one animation per recorded clip, in the
+  // "morph" layout. Empty: the motion alone.
+  std::vector<uint8_t> scene;
+  std::string clip;  // with a scene: only the clip of this name (its frames and animation)
   IoProgressCallback progress;
 };
 

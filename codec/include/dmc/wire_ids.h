@@ -51,6 +51,7 @@ enum class ChunkType : uint8_t {
   kOperator = 6,        // operator side information (DDL weights)
   kAnchors = 7,         // anchor vertex indices and coefficients
   kResiduals = 8,       // quantised delta-trajectories
+  kScene = 9,           // format 1.3, optional, third: what a glTF input holds besides motion
   kEnd = 15,            // last chunk; payload: varint number of chunks before it
 };
 
@@ -103,7 +104,7 @@ inline constexpr std::array<WireName<OperatorId>, 9> kOperatorIdNames = {{
     {OperatorId::kDdlAsym, "ddl-asym"},
 }};
 
-inline constexpr std::array<WireName<ChunkType>, 9> kChunkTypeNames = {{
+inline constexpr std::array<WireName<ChunkType>, 10> kChunkTypeNames = {{
     {ChunkType::kSequenceHeader, "sequence-header"},
     {ChunkType::kConnectivity, "connectivity"},
     {ChunkType::kSegmentHeader, "segment-header"},
@@ -112,6 +113,7 @@ inline constexpr std::array<WireName<ChunkType>, 9> kChunkTypeNames = {{
     {ChunkType::kOperator, "operator"},
     {ChunkType::kAnchors, "anchors"},
     {ChunkType::kResiduals, "residuals"},
+    {ChunkType::kScene, "scene"},
     {ChunkType::kEnd, "end"},
 }};
 

@@ -13,7 +13,7 @@ namespace dmc::format {
 
 inline constexpr std::array<uint8_t, 4> kMagic = {'D', 'M', 'C', 0x1A};
 inline constexpr uint8_t kVersionMajor = 1;
-inline constexpr uint8_t kVersionMinor = 2;
+inline constexpr uint8_t kVersionMinor = 3;
 
 // Chunk types and connectivity methods are frozen wire IDs: dmc/wire_ids.h.
 using ChunkType = ::dmc::ChunkType;
@@ -40,6 +40,12 @@ inline constexpr int64_t kMaxReferenceMagnitude = int64_t{1} << 40;
 // the vertices of its region use the residual step times 2^(e/4).
 inline constexpr int kMaxStepExponent = 16;
 inline constexpr int kStepExponentsPerOctave = 4;
+// Format 1.3 scene chunk (spec §6.3): its kinds and compressions, and the largest scene.
+inline constexpr uint8_t kFirstSceneMinor = 3;
+inline constexpr uint8_t kSceneKindGlb = 1;
+inline constexpr uint8_t kSceneStored = 0;
+inline constexpr uint8_t kSceneZstd = 1;
+inline constexpr uint64_t kMaxSceneBytes = uint64_t{1} << 30;
 inline constexpr double kMinAnchorWeight = 0x1p-32;
 inline constexpr double kMaxAnchorWeight = 0x1p32;
 
@@ -90,6 +96,7 @@ struct ChunkSizes {
   uint64_t operator_info = 0;
   uint64_t anchors = 0;
   uint64_t residuals = 0;
+  uint64_t scene = 0;  // the scene chunk (format 1.3), 0 without one
 };
 
 }  // namespace dmc::format

@@ -122,7 +122,8 @@ StatusOr<std::vector<uint8_t>> ReadFileBytes(const std::filesystem::path& path) 
 
 uint64_t DeclaredOutputBytes(const StreamInfo& info) {
   return 12 * (static_cast<uint64_t>(info.vertex_count) * static_cast<uint64_t>(info.frame_count) +
-               static_cast<uint64_t>(info.triangle_count));
+               static_cast<uint64_t>(info.triangle_count)) +
+         info.scene_size;
 }
 
 Status Decoder::Open(std::span<const uint8_t> stream, const DecoderOptions& options) {
@@ -139,6 +140,7 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
   topology_ = MeshTopology();
   vertex_order_.clear();
   segment_chunks_.clear();
+  scene_.clear();
   DMC_ASSIGN_OR_RETURN(std::vector<RawChunk> chunks,
                        SplitChunks(stream, &info_.version_major, &info_.version_minor));
   info_.total_bytes = stream.size();
@@ -155,7 +157,12 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
   DMC_ASSIGN_OR_RETURN(format::SequenceHeader header,
                        syntax::ReadSequenceHeader(payload(chunks[0])));
   DMC_RETURN_IF_ERROR(expect(1, format::ChunkType::kConnectivity));
-  const size_t expected_chunks = 2 + kChunksPerSegment * size_t{header.segment_count} + 1;
+  // Format 1.3: an optional scene chunk third (§4.4); in older streams type 9 is unassigned.
+  const bool has_scene = info_.version_minor >= format::kFirstSceneMinor && chunks.size() > 2 &&
+                         chunks[2].type == static_cast<uint8_t>(format::ChunkType::kScene);
+  const size_t first_segment_chunk = has_scene ? 3 : 2;
+  const size_t expected_chunks =
+      first_segment_chunk + kChunksPerSegment * size_t{header.segment_count} + 1;
   if (chunks.size() != expected_chunks) {
     return CorruptStreamError("stream has " + std::to_string(chunks.size()) + " chunks, " +
                               std::to_string(header.segment_count) + " segment(s) need " +
@@ -167,6 +174,12 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
   info_.frame_rate = header.frame_rate;
   info_.reordered = (header.flags & format::kFlagReordered) != 0;
   info_.name = header.name;
+  std::optional<syntax::SceneHeader> scene;
+  if (has_scene) {
+    DMC_ASSIGN_OR_RETURN(scene, syntax::ReadSceneHeader(payload(chunks[2])));
+    info_.scene_bytes = chunks[2].framed_size;
+    info_.scene_size = scene->size;
+  }
   // Output size bound of the format: no decoder produces more than 16 GiB of positions.
   if (uint64_t{header.vertex_count} * header.frame_count * 12 > (uint64_t{1} << 34)) {
     return UnsupportedError("decoded sequence would exceed 16 GiB");
@@ -178,8 +191,9 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
     return ResourceLimitError(
         "the stream declares " + std::to_string(declared_output) + " bytes of output (" +
         std::to_string(header.vertex_count) + " vertices x " + std::to_string(header.frame_count) +
-        " frames, " + std::to_string(header.triangle_count) + " triangles), above the limit of " +
-        std::to_string(options->max_output_bytes) + " bytes");
+        " frames, " + std::to_string(header.triangle_count) + " triangles" +
+        (has_scene ? ", a scene of " + std::to_string(info_.scene_size) + " bytes" : "") +
+        "), above the limit of " + std::to_string(options->max_output_bytes) + " bytes");
   }
   info_.header_bytes = 7 + chunks[0].framed_size + chunks.back().framed_size;
   info_.connectivity_bytes = chunks[1].framed_size;
@@ -188,7 +202,7 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
   // what the headers declare, before the connectivity (whose cost grows with V and T) is decoded.
   uint32_t next_frame = 0;
   for (uint32_t s = 0; s < header.segment_count; ++s) {
-    const size_t base = 2 + kChunksPerSegment * size_t{s};
+    const size_t base = first_segment_chunk + kChunksPerSegment * size_t{s};
     std::vector<ChunkRef> refs;
     for (int k = 0; k < kChunksPerSegment; ++k) {
       DMC_RETURN_IF_ERROR(expect(base + k, kSegmentChunkOrder[k]));
@@ -227,6 +241,11 @@ Status Decoder::OpenImpl(std::span<const uint8_t> stream, const DecoderOptions* 
   if (next_frame != header.frame_count) {
     return CorruptStreamError("segments cover " + std::to_string(next_frame) + " of " +
                               std::to_string(header.frame_count) + " frames");
+  }
+  // The scene is decompressed by decoders that reconstruct (ReadStreamInfo only checks its
+  // fields), after everything that costs only the stream's bytes.
+  if (scene && options != nullptr) {
+    DMC_ASSIGN_OR_RETURN(scene_, syntax::ReadScene(*scene));
   }
   DMC_ASSIGN_OR_RETURN(
       triangles_, DecodeConnectivity(payload(chunks[1]), header.vertex_count, header.triangle_count,
@@ -355,6 +374,16 @@ StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,
                                   const DecoderOptions& options) {
   DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes, ReadFileBytes(path));
   return Decode(bytes, options);
+}
+
+StatusOr<std::vector<uint8_t>> DecodeScene(std::span<const uint8_t> stream,
+                                           const DecoderOptions& options) {
+  return core_internal::GuardAllocation("decoding the scene",
+                                        [&]() -> StatusOr<std::vector<uint8_t>> {
+                                          Decoder decoder;
+                                          DMC_RETURN_IF_ERROR(decoder.Open(stream, options));
+                                          return decoder.scene();
+                                        });
 }
 
 }  // namespace dmc

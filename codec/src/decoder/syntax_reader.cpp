@@ -1,5 +1,7 @@
 #include "decoder/syntax_reader.h"
 
+#include <zstd.h>
+
 #include <array>
 #include <cmath>
 #include <memory>
@@ -132,6 +134,68 @@ StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> pay
   DMC_RETURN_IF_ERROR(reader.GetString(&header.name, format::kMaxNameLength, "sequence name"));
   if (!reader.at_end()) return CorruptStreamError("sequence header has trailing bytes");
   return header;
+}
+
+StatusOr<SceneHeader> ReadSceneHeader(std::span<const uint8_t> payload) {
+  ByteReader reader(payload);
+  SceneHeader header;
+  DMC_RETURN_IF_ERROR(reader.GetU8(&header.kind, "scene kind"));
+  if (header.kind != format::kSceneKindGlb) {
+    return CorruptStreamError("scene kind " + std::to_string(header.kind) +
+                              " is not defined (1: glTF binary)");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetU8(&header.compression, "scene compression"));
+  if (header.compression != format::kSceneStored && header.compression != format::kSceneZstd) {
+    return CorruptStreamError("scene compression " + std::to_string(header.compression) +
+                              " is not defined (0: stored, 1: zstd)");
+  }
+  DMC_RETURN_IF_ERROR(reader.GetVarURange(&header.size, 1, format::kMaxSceneBytes, "scene size"));
+  header.data = payload.subspan(reader.position());
+  if (header.compression == format::kSceneStored && header.data.size() != header.size) {
+    return CorruptStreamError("the stored scene holds " + std::to_string(header.data.size()) +
+                              " bytes, its size says " + std::to_string(header.size));
+  }
+  return header;
+}
+
+StatusOr<std::vector<uint8_t>> ReadScene(const SceneHeader& header) {
+  if (header.compression == format::kSceneStored) {
+    return std::vector<uint8_t>(header.data.begin(), header.data.end());
+  }
+  // One zstd frame that states its content size, equal to the declared size, and holds nothing
+  // after it. It is decompressed block by block into a buffer that grows with the output, so a
+  // few hostile bytes claiming a large scene cost only what their blocks really produce.
+  const unsigned long long content =
+      ZSTD_getFrameContentSize(header.data.data(), header.data.size());
+  if (content != header.size ||
+      ZSTD_findFrameCompressedSize(header.data.data(), header.data.size()) != header.data.size()) {
+    return CorruptStreamError("the scene is not one zstd frame stating its " +
+                              std::to_string(header.size) + " bytes");
+  }
+  std::unique_ptr<ZSTD_DStream, size_t (*)(ZSTD_DStream*)> stream(ZSTD_createDStream(),
+                                                                  ZSTD_freeDStream);
+  std::vector<uint8_t> scene;
+  ZSTD_inBuffer input{header.data.data(), header.data.size(), 0};
+  constexpr size_t kGrowth = size_t{1} << 20;
+  size_t result = 1;
+  while (result != 0) {
+    const size_t done = scene.size();
+    const size_t consumed = input.pos;
+    scene.resize(std::min<size_t>(static_cast<size_t>(header.size), done + kGrowth));
+    ZSTD_outBuffer output{scene.data(), scene.size(), done};
+    result = ZSTD_decompressStream(stream.get(), &output, &input);
+    if (ZSTD_isError(result)) {
+      return CorruptStreamError(std::string("the scene's zstd data is corrupt (") +
+                                ZSTD_getErrorName(result) + ")");
+    }
+    scene.resize(output.pos);
+    if (output.pos == done && input.pos == consumed) break;  // no progress: cut or oversized
+  }
+  if (result != 0 || scene.size() != header.size) {
+    return CorruptStreamError("the scene's zstd data does not decompress to " +
+                              std::to_string(header.size) + " bytes");
+  }
+  return scene;
 }
 
 StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,

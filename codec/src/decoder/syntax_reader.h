@@ -15,6 +15,19 @@
 namespace dmc::syntax {
 
 StatusOr<format::SequenceHeader> ReadSequenceHeader(std::span<const uint8_t> payload);
+
+// The scene chunk (format 1.3, spec §6.3): its fields checked; `data` views the payload's bytes
+// after them (stored or zstd-compressed).
+struct SceneHeader {
+  uint8_t kind = 0;
+  uint8_t compression = 0;
+  uint64_t size = 0;  // bytes of the scene once decompressed
+  std::span<const uint8_t> data;
+};
+StatusOr<SceneHeader> ReadSceneHeader(std::span<const uint8_t> payload);
+// The scene's bytes: exactly `header.size` of them (a stored payload of another length, or zstd
+// data that is not one frame decompressing to that size, is corrupt-stream).
+StatusOr<std::vector<uint8_t>> ReadScene(const SceneHeader& header);
 // `frames_left`: frames of the sequence not yet covered by earlier segments. `version_minor`, the
 // stream's (preamble), is kept in the header: the payload readers below follow its syntax.
 StatusOr<format::SegmentHeader> ReadSegmentHeader(std::span<const uint8_t> payload,

@@ -79,6 +79,10 @@ Status CheckEncodeRequest(FrameSource& source, const EncoderOptions& options,
   if (streaming.segments_in_flight < 1) {
     return InvalidArgumentError("segments in flight must be >= 1");
   }
+  if (streaming.scene.size() > format::kMaxSceneBytes) {
+    return InvalidArgumentError("the scene's " + std::to_string(streaming.scene.size()) +
+                                " bytes exceed the format's 2^30");
+  }
   const int v_count = source.vertex_count(), frames = source.frame_count();
   if (v_count <= 0 || frames <= 0) {
     return InvalidSequenceError(v_count <= 0 ? "the sequence has no vertices"
@@ -95,6 +99,7 @@ struct EncodeJob {
   FrameSource& source;
   const ConnectivityCode& connectivity;
   const StreamingEncodeOptions& streaming;
+  std::vector<uint8_t> scene_payload;  // ScenePayload(streaming.scene), compressed once
 
   void Progress(EncodeStage stage, int done) const {
     if (streaming.progress) streaming.progress(stage, done, source.frame_count());
@@ -177,7 +182,7 @@ Status EncodeOnce(const EncodeJob& job, const EncoderOptions& options, double di
       const std::vector<uint8_t> prefix,
       StreamPrefix(source.vertex_count(), static_cast<int>(source.triangles().rows()),
                    source.name(), options.fps > 0 ? options.fps : source.frame_rate(), plan,
-                   job.connectivity, totals));
+                   job.connectivity, job.scene_payload, totals));
   DMC_RETURN_IF_ERROR(write(prefix));
   DMC_RETURN_IF_ERROR(EncodeSegments(
       source, job.connectivity, options, plan, job.streaming.segments_in_flight, write,
@@ -244,7 +249,8 @@ Status EncodeWithRateSearch(const EncodeJob& job, const EncoderOptions& options,
 Status RunEncoder(FrameSource& source, const ConnectivityCode& connectivity,
                   const EncoderOptions& options, const StreamingEncodeOptions& streaming,
                   StreamSink& sink, EncodeReport& report) {
-  const EncodeJob job{source, connectivity, streaming};
+  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> scene_payload, ScenePayload(streaming.scene));
+  const EncodeJob job{source, connectivity, streaming, std::move(scene_payload)};
   if (HasRateTarget(options)) return EncodeWithRateSearch(job, options, sink, report);
   DMC_ASSIGN_OR_RETURN(SourceScan scan,
                        ScanForEncode(job, options.measure, /*meter_optional=*/true));

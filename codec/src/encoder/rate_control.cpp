@@ -9,7 +9,8 @@ bool HasRateTarget(const EncoderOptions& options) {
 }
 
 bool MeetsRateTarget(const EncoderOptions& options, const EncodeReport& report) {
-  return options.target_bpfv > 0.0 ? report.bpfv <= options.target_bpfv
+  // The motion's rate: a scene chunk is a fixed cost no step changes.
+  return options.target_bpfv > 0.0 ? report.positions_bpfv <= options.target_bpfv
                                    : report.distortion.sted <= options.target_sted;
 }
 

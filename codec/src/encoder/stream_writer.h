@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,15 +36,21 @@ inline constexpr int kMeanStepBits = 18;
 // (a diagonal above about 1.9e22 at 10 residual bits), naming the step and the remedy.
 StatusOr<StreamPlan> PlanStream(int frames, double diagonal, const EncoderOptions& options);
 
-// Magic, version, the sequence header chunk and the connectivity chunk; kUnsupported for a frame
-// rate the format cannot carry.
+// Magic, version, the sequence header chunk, the connectivity chunk and, when `scene_payload` is
+// not empty, the scene chunk (ScenePayload); kUnsupported for a frame rate the format cannot carry.
 StatusOr<std::vector<uint8_t>> StreamPrefix(int vertex_count, int triangle_count,
                                             const std::string& name, double frame_rate,
                                             const StreamPlan& plan,
                                             const ConnectivityCode& connectivity,
+                                            std::span<const uint8_t> scene_payload,
                                             format::ChunkSizes& totals);
 
-// The end chunk: it counts the chunks before it (sequence header, connectivity, 6 per segment).
+// The scene chunk's payload for a GLB `scene` (spec §6.3: kind 1, zstd at level 19, the size);
+// empty for an empty scene. kInvalidArgument beyond format::kMaxSceneBytes.
+StatusOr<std::vector<uint8_t>> ScenePayload(std::span<const uint8_t> scene);
+
+// The end chunk: it counts the chunks before it (sequence header, connectivity, the scene when
+// totals.scene says there is one, 6 per segment).
 std::vector<uint8_t> StreamEnd(const StreamPlan& plan, format::ChunkSizes& totals);
 
 // Adds segment `index` (segments in order) to the totals and the report: its sizes, its operator,

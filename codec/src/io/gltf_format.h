@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ struct GltfImport {
 // cannot be read, kParseError (with tinygltf's message) when it is not valid glTF.
 StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path);
 
+// A GLB held in memory (a stream's scene record), its container checked first; kParseError
+// naming `label` otherwise.
+StatusOr<tinygltf::Model> LoadGlbBytes(std::span<const uint8_t> bytes, const std::string& label);
+
 // Poses the model's animation into a sequence (see the top of this file for the maths).
 // `max_frames` > 0 keeps only the first frames. Errors:
 //  - kInvalidArgument: frame_rate negative or not finite, no mesh or animation of that name;
@@ -63,9 +68,35 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path);
 StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadOptions& options,
                                    int max_frames = 0);
 
+// LoadGltfModel then BuildSceneRecord.
+StatusOr<std::vector<uint8_t>> ReadSceneRecord(const std::filesystem::path& path,
+                                               const GltfReadOptions& options,
+                                               const std::vector<int32_t>& vertex_map,
+                                               const std::vector<ClipInfo>& clips,
+                                               int stream_vertices);
+
 // LoadGltfModel then PoseGltfModel.
 StatusOr<GltfImport> ReadGltf(const std::filesystem::path& path, const GltfReadOptions& options,
                               int max_frames = 0);
+
+// Keeps only the accessors, buffer views and buffer bytes something still refers to (meshes,
+// animations, skins, images), in one buffer. `extra_accessors` are referenced from where the walk
+// cannot see (extras); they are kept and renumbered in place.
+void CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors);
+
+// The key of the scene record in its GLB's root extras (gltf_scene_record.cpp).
+inline constexpr const char* kSceneRecordKey = "dmc_scene";
+// The attribute a stripped primitive of the record keeps (glTF needs one): the vertex map.
+inline constexpr const char* kSceneVertexAttribute = "_DMC_VERTEX";
+
+// The scene record of `model` (loaded by LoadGltfModel, then posed with `options` into a sequence
+// of `stream_vertices` vertices through `vertex_map`, in `clips`); see BuildGltfScene in
+// dmc/io.h. Empty for a dmc frames export.
+StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
+                                                const GltfReadOptions& options,
+                                                const std::vector<int32_t>& vertex_map,
+                                                const std::vector<ClipInfo>& clips,
+                                                int stream_vertices);
 
 // How an exported GLB holds the frames.
 enum class GlbLayout {
@@ -91,6 +122,14 @@ enum class GlbEncoding {
 StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence,
                                          GlbLayout layout = GlbLayout::kAuto,
                                          GlbEncoding encoding = GlbEncoding::kCompact);
+
+// The GLB of a decoded sequence within its scene record (gltf_scene_export.cpp): the record's
+// nodes, materials, textures, kept attributes and node animations, the sequence's motion as morph
+// targets, each clip (or only the one named `clip`) as an animation. kParseError when the record
+// does not fit the sequence, kInvalidArgument for an unknown clip.
+StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
+                                              std::span<const uint8_t> scene, GlbEncoding encoding,
+                                              const std::string& clip);
 
 // The model as a GLB, buffer 0 as its BIN chunk.
 StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model);

@@ -78,6 +78,7 @@ StatusOr<GltfImport> ReadFramesExport(const tinygltf::Model& model, const GltfRe
 // The animation's channels and the time span they cover (0, 0 without an animation).
 struct Clip {
   std::string name;
+  int animation = -1;
   std::vector<Channel> channels;
   double start = 0.0;
   double end = 0.0;
@@ -89,6 +90,7 @@ StatusOr<Clip> LoadClip(const tinygltf::Model& model, int animation_index) {
   if (animation_index < 0) return clip;
   const tinygltf::Animation& animation = model.animations[static_cast<size_t>(animation_index)];
   clip.name = animation.name;
+  clip.animation = animation_index;
   DMC_ASSIGN_OR_RETURN(
       clip.channels,
       gltf::LoadChannels(model, animation, "animation " + std::to_string(animation_index)));
@@ -300,6 +302,27 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
   return model;
 }
 
+StatusOr<tinygltf::Model> LoadGlbBytes(std::span<const uint8_t> bytes, const std::string& label) {
+  const std::string_view view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  StatusOr<GlbJsonChunk> checked = CheckGlbContainer(view);
+  if (!checked.ok()) return checked.status().WithContext(label);
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
+    return UnsupportedError(label + ": GLBs of 4 GiB or more are not supported");
+  }
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                           const unsigned char*, int, void*) { return true; },
+                        nullptr);
+  tinygltf::Model model;
+  std::string errors, warnings;
+  if (!loader.LoadBinaryFromMemory(&model, &errors, &warnings, bytes.data(),
+                                   static_cast<unsigned int>(bytes.size()), "")) {
+    while (!errors.empty() && errors.back() == '\n') errors.pop_back();
+    return ParseError(label + ": " + (errors.empty() ? "not a glTF 2.0 file" : errors));
+  }
+  return model;
+}
+
 StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadOptions& requested,
                                    int max_frames) {
   if (!(requested.frame_rate >= 0) || !std::isfinite(requested.frame_rate)) {
@@ -360,7 +383,9 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
           poser.Pose(clip.start + f / options.frame_rate, sequence.frame(first_frame + f))
               .WithContext("frame " + std::to_string(first_frame + f)));
     }
-    if (clip.animated) result.clips.push_back({clip.name, first_frame, clip_frames[c]});
+    if (clip.animated) {
+      result.clips.push_back({clip.name, clip.animation, clip.start, first_frame, clip_frames[c]});
+    }
     first_frame += clip_frames[c];
   }
   result.sequence = std::move(sequence);
@@ -368,6 +393,18 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
   std::iota(result.vertex_map.begin(), result.vertex_map.end(), 0);
   if (options.weld) DMC_RETURN_IF_ERROR(gltf::WeldImport(result, primitives.triangles));
   return result;
+}
+
+StatusOr<std::vector<uint8_t>> ReadSceneRecord(const std::filesystem::path& path,
+                                               const GltfReadOptions& options,
+                                               const std::vector<int32_t>& vertex_map,
+                                               const std::vector<ClipInfo>& clips,
+                                               int stream_vertices) {
+  DMC_ASSIGN_OR_RETURN(tinygltf::Model model, LoadGltfModel(path));
+  StatusOr<std::vector<uint8_t>> record =
+      BuildSceneRecord(std::move(model), options, vertex_map, clips, stream_vertices);
+  if (!record.ok()) return record.status().WithContext(path.string());
+  return record;
 }
 
 StatusOr<GltfImport> ReadGltf(const std::filesystem::path& path, const GltfReadOptions& options,

@@ -99,6 +99,8 @@ NodePose StaticPose(const tinygltf::Node& node);
 // One triangle primitive of one mesh node, with everything its vertices need per frame.
 struct PrimitiveInstance {
   int node = -1;
+  int mesh = -1;       // the node's mesh
+  int primitive = -1;  // the primitive's index in it
   int skin = -1;
   int vertex_offset = 0;
   int vertex_count = 0;

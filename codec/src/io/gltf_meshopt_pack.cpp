@@ -1,6 +1,7 @@
-// EXT_meshopt_compression packing of an exported model: every buffer view is compressed with
-// meshoptimizer's vertex or index codec into the GLB's BIN chunk (buffer 0), and the views point at
-// a data-less fallback buffer (buffer 1) holding their decoded layout, as the extension defines.
+// EXT_meshopt_compression packing of an exported model: every buffer view of vertex data, keys or
+// indices is compressed with meshoptimizer's vertex or index codec into the GLB's BIN chunk
+// (buffer 0), and points at a data-less fallback buffer (buffer 1) holding its decoded layout, as
+// the extension defines; other views (images, byte indices) stay in the BIN chunk as they are.
 #include <meshoptimizer.h>
 
 #include <nlohmann/json.hpp>
@@ -39,12 +40,16 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
   const std::vector<unsigned char> raw = std::move(model.buffers[0].data);
   // Which views hold indices: the TRIANGLES codec needs the index size and a multiple of 3.
   std::vector<int> index_size(model.bufferViews.size(), 0);
+  std::vector<char> triangle_list(model.bufferViews.size(), 1);
   for (const tinygltf::Mesh& mesh : model.meshes) {
     for (const tinygltf::Primitive& primitive : mesh.primitives) {
       if (primitive.indices < 0) continue;
       const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(primitive.indices)];
       index_size[static_cast<size_t>(accessor.bufferView)] =
           static_cast<int>(ComponentBytes(accessor.componentType));
+      if (primitive.mode != TINYGLTF_MODE_TRIANGLES) {
+        triangle_list[static_cast<size_t>(accessor.bufferView)] = 0;
+      }
     }
   }
   // The element size of each view (for views without byteStride).
@@ -67,7 +72,22 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
     std::vector<unsigned char> compressed;
     nlohmann::json extension;
     size_t count = 0, stride = 0;
-    if (index_size[v] != 0) {
+    const size_t attribute_stride = view.byteStride != 0 ? view.byteStride : element_size[v];
+    const bool indices_view = index_size[v] != 0;
+    const bool compressible = indices_view
+                                  ? (index_size[v] == 2 || index_size[v] == 4)
+                                  : (attribute_stride != 0 && attribute_stride % 4 == 0 &&
+                                     attribute_stride <= 256 && length % attribute_stride == 0);
+    if (!compressible) {
+      // Images, byte indices, odd strides: stored as they are in the BIN chunk.
+      while (packed.size() % 4 != 0) packed.push_back(0);
+      view.buffer = 0;
+      view.byteOffset = packed.size();
+      packed.insert(packed.end(), source, source + length);
+      view_extensions.push_back(nullptr);
+      continue;
+    }
+    if (indices_view) {
       stride = static_cast<size_t>(index_size[v]);
       count = length / stride;
       std::vector<uint32_t> indices(count);
@@ -76,16 +96,23 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
         std::memcpy(&value, source + i * stride, stride);  // little-endian
         indices[i] = value;
       }
-      compressed.resize(meshopt_encodeIndexBufferBound(count, count == 0 ? 0 : count));
-      compressed.resize(
-          meshopt_encodeIndexBuffer(compressed.data(), compressed.size(), indices.data(), count));
-      extension["mode"] = "TRIANGLES";
-    } else {
-      stride = view.byteStride != 0 ? view.byteStride : element_size[v];
-      if (stride == 0 || stride % 4 != 0 || stride > 256 || length % stride != 0) {
-        return InternalError("buffer view " + std::to_string(v) +
-                             " has a stride meshopt cannot code");
+      // The triangle codec may rotate a triangle's corners (keeping its winding), which only a
+      // triangle list tolerates; strips, fans and odd counts keep their order (INDICES).
+      uint32_t largest = 0;
+      for (const uint32_t index : indices) largest = std::max(largest, index);
+      if (triangle_list[v] && count % 3 == 0) {
+        compressed.resize(meshopt_encodeIndexBufferBound(count, size_t{largest} + 1));
+        compressed.resize(
+            meshopt_encodeIndexBuffer(compressed.data(), compressed.size(), indices.data(), count));
+        extension["mode"] = "TRIANGLES";
+      } else {
+        compressed.resize(meshopt_encodeIndexSequenceBound(count, size_t{largest} + 1));
+        compressed.resize(meshopt_encodeIndexSequence(compressed.data(), compressed.size(),
+                                                      indices.data(), count));
+        extension["mode"] = "INDICES";
       }
+    } else {
+      stride = attribute_stride;
       count = length / stride;
       compressed.resize(meshopt_encodeVertexBufferBound(count, stride));
       compressed.resize(
@@ -131,6 +158,7 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
   document["buffers"][1] = {{"byteLength", fallback_size},
                             {"extensions", {{kMeshopt, {{"fallback", true}}}}}};
   for (size_t v = 0; v < view_extensions.size(); ++v) {
+    if (view_extensions[v].is_null()) continue;
     document["bufferViews"][v]["extensions"][kMeshopt] = std::move(view_extensions[v]);
   }
   std::string json = document.dump();

@@ -92,6 +92,8 @@ Status AddPrimitive(const tinygltf::Model& model, int n, size_t p, ScenePrimitiv
   }
   PrimitiveInstance instance;
   instance.node = n;
+  instance.mesh = node.mesh;
+  instance.primitive = static_cast<int>(p);
   instance.skin = node.skin;
   instance.vertex_offset = primitives.vertex_total;
   int components = 0;

@@ -552,8 +552,18 @@ Status WriteSequenceUnguarded(const MeshSequence& sequence,
       return InvalidArgumentError("unknown GLB encoding '" + options.glb_encoding +
                                   "' (expected compact, quantized or float)");
     }
-    DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> glb,
-                         io_internal::EncodeGlb(sequence, layout, encoding));
+    if (!options.clip.empty() && options.scene.empty()) {
+      return InvalidArgumentError("a clip can be chosen only with a scene (the stream has none)");
+    }
+    if (!options.scene.empty() && layout == io_internal::GlbLayout::kFrames) {
+      return InvalidArgumentError(
+          "the frames layout cannot hold a scene: use the morph layout, or leave the scene out");
+    }
+    DMC_ASSIGN_OR_RETURN(
+        const std::vector<uint8_t> glb,
+        options.scene.empty()
+            ? io_internal::EncodeGlb(sequence, layout, encoding)
+            : io_internal::EncodeSceneGlb(sequence, options.scene, encoding, options.clip));
     DMC_RETURN_IF_ERROR(WriteFileAtomically(output, glb));
     if (options.progress) options.progress(sequence.frame_count(), sequence.frame_count());
     return Status::Ok();
@@ -579,6 +589,17 @@ Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& 
   return core_internal::GuardAllocation("writing " + output_path.string(), [&] {
     return WriteSequenceUnguarded(sequence, output_path, options);
   });
+}
+
+StatusOr<std::vector<uint8_t>> BuildGltfScene(const std::filesystem::path& input,
+                                              const ReadOptions& options, const ReadReport& report,
+                                              int stream_vertices) {
+  const std::string extension = LowercaseExtension(input);
+  if (extension != ".glb" && extension != ".gltf") {
+    return InvalidArgumentError(input.string() + " is not a glTF file: it has no scene to keep");
+  }
+  return io_internal::ReadSceneRecord(input, options.gltf, report.vertex_map, report.clips,
+                                      stream_vertices);
 }
 
 }  // namespace dmc

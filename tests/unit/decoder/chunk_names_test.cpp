@@ -35,7 +35,8 @@ TEST(ChunkNames, ErrorsNameTheChunkTypeFromTheWireTable) {
   EXPECT_THAT(OpenError(3), HasSubstr("chunk 0 (segment header) declares"));
   EXPECT_THAT(OpenError(6), HasSubstr("chunk 0 (operator) declares"));
   EXPECT_THAT(OpenError(15), HasSubstr("chunk 0 (end) declares"));
-  EXPECT_THAT(OpenError(9), HasSubstr("chunk 0 (unknown (9)) declares"));
+  EXPECT_THAT(OpenError(9), HasSubstr("chunk 0 (scene) declares"));
+  EXPECT_THAT(OpenError(10), HasSubstr("chunk 0 (unknown (10)) declares"));
   EXPECT_THAT(OpenError(0), HasSubstr("chunk 0 (unknown (0)) declares"));
 }
 

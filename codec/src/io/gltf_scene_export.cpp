@@ -1,0 +1,396 @@
+// GLB export of a decoded sequence into its scene record (EncodeSceneGlb): the input's nodes,
+// materials, textures, UVs and clips come back from the record, the motion from the sequence.
+//
+// Each node that showed imported primitives gets a new leaf node (same name, first among its
+// children, so the scene's depth-first order, which is the vertex order of an import, is kept)
+// holding a new mesh: the node's primitives with their kept attributes and indices, plus POSITION
+// and NORMAL of the first written frame and one morph target per later frame, played by a weights
+// channel in each clip's animation. The stream's positions are world positions; the leaf node
+// takes them back into its node's space with the node's rest transform, unless an animation moves
+// the node or one of its ancestors, in which case the new node sits at the scene's root instead (a
+// skinned mesh's node transform is ignored by glTF, so world space is what its vertices were in).
+// Node animations, cameras, materials and the asset are the record's.
+#include <algorithm>
+#include <map>
+
+#include "io/gltf_glb_builder.h"
+#include "io/gltf_import_internal.h"
+
+namespace dmc::io_internal {
+namespace {
+
+using glb::FrameNormals;
+using glb::ModelBuilder;
+using glb::NormalSteps;
+using glb::PositionGrid;
+using glb::QuantizeNormals;
+
+struct RecordInstance {
+  int node = -1, mesh = -1, primitive = -1, first_vertex = 0, vertex_count = 0;
+};
+
+struct Record {
+  std::vector<int32_t> vertex_map;
+  std::vector<RecordInstance> instances;
+  std::vector<ClipInfo> clips;
+};
+
+int IntMember(const tinygltf::Value& object, const char* key, int fallback = -1) {
+  if (!object.IsObject() || !object.Has(key)) return fallback;
+  const tinygltf::Value& value = object.Get(key);
+  return value.IsNumber() || value.IsInt() ? static_cast<int>(value.GetNumberAsDouble()) : fallback;
+}
+
+StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& sequence) {
+  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey)) {
+    return ParseError("the scene holds no dmc scene record");
+  }
+  const tinygltf::Value& record = model.extras.Get(kSceneRecordKey);
+  if (IntMember(record, "version") != 1) return UnsupportedError("scene record version");
+  if (IntMember(record, "stream_vertices") != sequence.vertex_count()) {
+    return ParseError("the scene record is for " +
+                      std::to_string(IntMember(record, "stream_vertices")) +
+                      " vertices, the stream has " + std::to_string(sequence.vertex_count()));
+  }
+  Record out;
+  DMC_ASSIGN_OR_RETURN(const std::vector<double> map,
+                       gltf::ReadAccessor(model, IntMember(record, "vertex_map"), "vertex map"));
+  for (const double v : map) {
+    if (!(v >= 0 && v < sequence.vertex_count())) {
+      return ParseError("the scene's vertex map names a vertex the stream does not have");
+    }
+    out.vertex_map.push_back(static_cast<int32_t>(v));
+  }
+  const tinygltf::Value& instances = record.Get("instances");
+  for (size_t i = 0; instances.IsArray() && i < instances.ArrayLen(); ++i) {
+    const tinygltf::Value& entry = instances.Get(static_cast<int>(i));
+    RecordInstance instance{IntMember(entry, "node"), IntMember(entry, "mesh"),
+                            IntMember(entry, "primitive"), IntMember(entry, "first_vertex"),
+                            IntMember(entry, "vertex_count")};
+    const bool valid =
+        instance.node >= 0 && static_cast<size_t>(instance.node) < model.nodes.size() &&
+        instance.mesh >= 0 && static_cast<size_t>(instance.mesh) < model.meshes.size() &&
+        instance.primitive >= 0 &&
+        static_cast<size_t>(instance.primitive) <
+            model.meshes[static_cast<size_t>(instance.mesh)].primitives.size() &&
+        instance.first_vertex >= 0 && instance.vertex_count >= 0 &&
+        static_cast<size_t>(instance.first_vertex) + static_cast<size_t>(instance.vertex_count) <=
+            out.vertex_map.size();
+    if (!valid) return ParseError("scene record instance " + std::to_string(i) + " is invalid");
+    out.instances.push_back(instance);
+  }
+  const tinygltf::Value& clips = record.Get("clips");
+  for (size_t c = 0; clips.IsArray() && c < clips.ArrayLen(); ++c) {
+    const tinygltf::Value& entry = clips.Get(static_cast<int>(c));
+    ClipInfo clip;
+    clip.name = entry.Has("name") && entry.Get("name").IsString()
+                    ? entry.Get("name").Get<std::string>()
+                    : std::string();
+    clip.animation = IntMember(entry, "animation");
+    clip.first_frame = IntMember(entry, "first_frame");
+    clip.frame_count = IntMember(entry, "frame_count");
+    clip.start_time = entry.Has("start_time") && entry.Get("start_time").IsNumber()
+                          ? entry.Get("start_time").GetNumberAsDouble()
+                          : 0.0;
+    if (clip.first_frame < 0 || clip.frame_count < 1 ||
+        clip.first_frame > sequence.frame_count() - clip.frame_count || clip.animation < -1 ||
+        clip.animation >= static_cast<int>(model.animations.size())) {
+      return ParseError("scene record clip " + std::to_string(c) + " does not fit the stream's " +
+                        std::to_string(sequence.frame_count()) + " frames");
+    }
+    out.clips.push_back(clip);
+  }
+  return out;
+}
+
+// Per node: whether an animation of the record moves it or an ancestor (TRS channels).
+std::vector<bool> MovedNodes(const tinygltf::Model& model, const std::vector<int>& parent) {
+  std::vector<bool> targeted(model.nodes.size(), false);
+  for (const tinygltf::Animation& animation : model.animations) {
+    for (const tinygltf::AnimationChannel& channel : animation.channels) {
+      if (channel.target_node >= 0 && static_cast<size_t>(channel.target_node) < targeted.size() &&
+          channel.target_path != "weights") {
+        targeted[static_cast<size_t>(channel.target_node)] = true;
+      }
+    }
+  }
+  std::vector<bool> moved(model.nodes.size(), false);
+  for (size_t n = 0; n < model.nodes.size(); ++n) {
+    for (int m = static_cast<int>(n); m >= 0; m = parent[static_cast<size_t>(m)]) {
+      if (targeted[static_cast<size_t>(m)]) moved[n] = true;
+    }
+  }
+  return moved;
+}
+
+gltf::Matrix4 RestGlobal(const tinygltf::Model& model, const std::vector<int>& parent, int node) {
+  gltf::Matrix4 global = gltf::Matrix4::Identity();
+  for (int m = node; m >= 0; m = parent[static_cast<size_t>(m)]) {
+    global = gltf::StaticPose(model.nodes[static_cast<size_t>(m)]).Local() * global;
+  }
+  return global;
+}
+
+}  // namespace
+
+StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
+                                              std::span<const uint8_t> scene, GlbEncoding encoding,
+                                              const std::string& clip_name) {
+  DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
+  DMC_ASSIGN_OR_RETURN(tinygltf::Model record_model, LoadGlbBytes(scene, "the stream's scene"));
+  DMC_ASSIGN_OR_RETURN(const Record record, ReadRecord(record_model, sequence));
+  const double frame_rate = sequence.frame_rate > 0 && std::isfinite(sequence.frame_rate)
+                                ? sequence.frame_rate
+                                : glb::kDefaultFrameRate;
+  const bool compact = encoding != GlbEncoding::kFloat;
+
+  // The clips written, and the stream frames they show, in order.
+  std::vector<ClipInfo> clips = record.clips;
+  if (clips.empty()) clips.push_back({"frames", -1, 0.0, 0, sequence.frame_count()});
+  if (!clip_name.empty()) {
+    const auto found = std::find_if(clips.begin(), clips.end(),
+                                    [&](const ClipInfo& clip) { return clip.name == clip_name; });
+    if (found == clips.end()) {
+      std::string names;
+      for (const ClipInfo& clip : clips) names += (names.empty() ? "" : ", ") + clip.name;
+      return InvalidArgumentError("the stream has no clip named '" + clip_name + "' (it has " +
+                                  names + ")");
+    }
+    clips = {*found};
+  }
+  std::vector<int> frames;
+  for (const ClipInfo& clip : clips) {
+    for (int k = 0; k < clip.frame_count; ++k) frames.push_back(clip.first_frame + k);
+  }
+  std::vector<std::vector<float>> normals;  // per written frame, the whole stream's normals
+  for (const int f : frames) normals.push_back(FrameNormals(sequence, f));
+
+  std::vector<int> parent(record_model.nodes.size(), -1);
+  for (size_t n = 0; n < record_model.nodes.size(); ++n) {
+    for (const int child : record_model.nodes[n].children) {
+      if (child >= 0 && static_cast<size_t>(child) < parent.size()) {
+        parent[static_cast<size_t>(child)] = static_cast<int>(n);
+      }
+    }
+  }
+  const std::vector<bool> moved = MovedNodes(record_model, parent);
+  const PositionGrid world_grid(sequence);
+  ModelBuilder builder(std::move(record_model));
+  tinygltf::Model& model = builder.model();
+
+  // Instances grouped by node, in record order.
+  std::vector<int> node_order;
+  std::map<int, std::vector<const RecordInstance*>> by_node;
+  for (const RecordInstance& instance : record.instances) {
+    if (by_node[instance.node].empty()) node_order.push_back(instance.node);
+    by_node[instance.node].push_back(&instance);
+  }
+  const size_t target_count = frames.size() - 1;
+  std::vector<int> baked_nodes;
+  for (const int n : node_order) {
+    const std::vector<const RecordInstance*>& instances = by_node[n];
+    // World to the new node's space: the node's rest transform, or none at the root.
+    const gltf::Matrix4 to_local = moved[static_cast<size_t>(n)]
+                                       ? gltf::Matrix4::Identity()
+                                       : gltf::Matrix4(RestGlobal(model, parent, n).inverse());
+    const Eigen::Matrix3d normal_to_local = to_local.topLeftCorner<3, 3>().inverse().transpose();
+    // positions[i][j]: instance i's points in written frame j, in the new node's space.
+    std::vector<std::vector<std::vector<double>>> positions(instances.size());
+    std::vector<std::vector<std::vector<float>>> local_normals(instances.size());
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+    for (size_t i = 0; i < instances.size(); ++i) {
+      const RecordInstance& instance = *instances[i];
+      for (size_t j = 0; j < frames.size(); ++j) {
+        const auto frame = sequence.frame(frames[j]);
+        std::vector<double> points(3 * static_cast<size_t>(instance.vertex_count));
+        std::vector<float> frame_normals(points.size());
+        for (int v = 0; v < instance.vertex_count; ++v) {
+          const int32_t s = record.vertex_map[static_cast<size_t>(instance.first_vertex + v)];
+          const Eigen::Vector4d world(frame(s, 0), frame(s, 1), frame(s, 2), 1.0);
+          const Eigen::Vector4d local = to_local * world;
+          const Eigen::Vector3d n_world(normals[j][3 * static_cast<size_t>(s)],
+                                        normals[j][3 * static_cast<size_t>(s) + 1],
+                                        normals[j][3 * static_cast<size_t>(s) + 2]);
+          Eigen::Vector3d n_local = normal_to_local * n_world;
+          n_local =
+              n_local.norm() > 0 ? Eigen::Vector3d(n_local.normalized()) : Eigen::Vector3d(0, 0, 1);
+          for (int c = 0; c < 3; ++c) {
+            points[3 * static_cast<size_t>(v) + static_cast<size_t>(c)] = local[c];
+            frame_normals[3 * static_cast<size_t>(v) + static_cast<size_t>(c)] =
+                static_cast<float>(n_local[c]);
+          }
+          lo = lo.cwiseMin(local.head<3>());
+          hi = hi.cwiseMax(local.head<3>());
+        }
+        positions[i].push_back(std::move(points));
+        local_normals[i].push_back(std::move(frame_normals));
+      }
+    }
+    // One precision for the whole scene: the grid the motion-only GLB uses over every frame,
+    // scaled into this node's space, so small parts are not coded finer than large ones.
+    const double local_scale = std::cbrt(std::abs(to_local.topLeftCorner<3, 3>().determinant()));
+    const PositionGrid grid(lo, hi, world_grid.step() * local_scale);
+
+    tinygltf::Mesh mesh = model.meshes[static_cast<size_t>(instances.front()->mesh)];
+    for (size_t i = 0; i < instances.size(); ++i) {
+      tinygltf::Primitive& primitive =
+          mesh.primitives[static_cast<size_t>(instances[i]->primitive)];
+      primitive.targets.clear();
+      primitive.attributes.erase(kSceneVertexAttribute);
+      if (compact) {
+        std::vector<int16_t> previous = grid.Quantize(positions[i][0]);
+        const std::vector<int8_t> base_normals = QuantizeNormals(local_normals[i][0]);
+        std::vector<int> normal_sum(base_normals.begin(), base_normals.end());
+        primitive.attributes["POSITION"] = builder.AddPaddedVec3(previous, /*normalized=*/false);
+        primitive.attributes["NORMAL"] = builder.AddPaddedVec3(base_normals, /*normalized=*/true);
+        for (size_t j = 1; j < frames.size(); ++j) {
+          std::vector<int16_t> current = grid.Quantize(positions[i][j]);
+          std::vector<int16_t> steps(current.size());
+          for (size_t k = 0; k < steps.size(); ++k) {
+            steps[k] = static_cast<int16_t>(current[k] - previous[k]);
+          }
+          previous = std::move(current);
+          primitive.targets.push_back(
+              {{"POSITION", builder.AddPaddedVec3(steps, /*normalized=*/false)},
+               {"NORMAL", builder.AddPaddedVec3(NormalSteps(local_normals[i][j], normal_sum),
+                                                /*normalized=*/true)}});
+        }
+      } else {
+        auto to_float = [](const std::vector<double>& values) {
+          return std::vector<float>(values.begin(), values.end());
+        };
+        const std::vector<float> base = to_float(positions[i][0]);
+        primitive.attributes["POSITION"] = builder.AddFloats(base, TINYGLTF_TYPE_VEC3);
+        primitive.attributes["NORMAL"] = builder.AddFloats(local_normals[i][0], TINYGLTF_TYPE_VEC3);
+        for (size_t j = 1; j < frames.size(); ++j) {
+          std::vector<float> delta = to_float(positions[i][j]);
+          std::vector<float> normal_delta = local_normals[i][j];
+          for (size_t k = 0; k < delta.size(); ++k) {
+            delta[k] -= base[k];
+            normal_delta[k] -= local_normals[i][0][k];
+          }
+          primitive.targets.push_back(
+              {{"POSITION", builder.AddFloats(delta, TINYGLTF_TYPE_VEC3)},
+               {"NORMAL", builder.AddFloats(normal_delta, TINYGLTF_TYPE_VEC3)}});
+        }
+      }
+    }
+    // Primitives the import skipped (points, lines) have no targets, which glTF forbids beside
+    // primitives that have them: they stay with the original node.
+    std::vector<tinygltf::Primitive> baked, kept;
+    std::vector<bool> imported(mesh.primitives.size(), false);
+    for (const RecordInstance* instance : instances) {
+      imported[static_cast<size_t>(instance->primitive)] = true;
+    }
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      (imported[p] ? baked : kept).push_back(mesh.primitives[p]);
+    }
+    tinygltf::Node& original = model.nodes[static_cast<size_t>(n)];
+    if (kept.empty()) {
+      original.mesh = -1;
+    } else {
+      tinygltf::Mesh rest = mesh;
+      rest.primitives = std::move(kept);
+      rest.weights.clear();
+      model.meshes.push_back(std::move(rest));
+      original.mesh = static_cast<int>(model.meshes.size()) - 1;
+    }
+    mesh.primitives = std::move(baked);
+    mesh.weights.assign(target_count, 0.0);
+    model.meshes.push_back(std::move(mesh));
+    tinygltf::Node leaf;
+    leaf.name = original.name;
+    leaf.mesh = static_cast<int>(model.meshes.size()) - 1;
+    if (compact) grid.Apply(leaf);
+    model.nodes.push_back(std::move(leaf));
+    const int leaf_index = static_cast<int>(model.nodes.size()) - 1;
+    baked_nodes.push_back(leaf_index);
+    if (moved[static_cast<size_t>(n)]) {
+      const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+      if (model.scenes.empty()) model.scenes.emplace_back();
+      model.scenes[static_cast<size_t>(scene)].nodes.push_back(leaf_index);
+    } else {
+      std::vector<int>& children = model.nodes[static_cast<size_t>(n)].children;
+      children.insert(children.begin(), leaf_index);
+    }
+  }
+
+  // One animation per clip: the record's node channels and a weights channel per baked node.
+  std::vector<tinygltf::Animation> animations;
+  size_t written = 0;  // written frames before the clip
+  for (const ClipInfo& clip : clips) {
+    tinygltf::Animation animation;
+    if (clip.animation >= 0) animation = model.animations[static_cast<size_t>(clip.animation)];
+    animation.name = clip.name;
+    if (target_count > 0) {
+      std::vector<float> times, weights;
+      for (int k = 0; k < clip.frame_count; ++k) {
+        times.push_back(static_cast<float>(clip.start_time + k / frame_rate));
+        const size_t j = written + static_cast<size_t>(k);
+        for (size_t t = 0; t < target_count; ++t) {
+          // Compact targets are steps from the previous frame (cumulative weights); float ones
+          // are relative to the first written frame (one-hot).
+          weights.push_back(compact ? (t < j ? 1.0f : 0.0f) : (t + 1 == j ? 1.0f : 0.0f));
+        }
+      }
+      const int input = builder.AddFloats(times, TINYGLTF_TYPE_SCALAR);
+      const int output = builder.AddFloats(weights, TINYGLTF_TYPE_SCALAR);
+      for (const int node : baked_nodes) {
+        tinygltf::AnimationSampler sampler;
+        sampler.input = input;
+        sampler.output = output;
+        sampler.interpolation = "LINEAR";
+        animation.samplers.push_back(sampler);
+        tinygltf::AnimationChannel channel;
+        channel.sampler = static_cast<int>(animation.samplers.size()) - 1;
+        channel.target_node = node;
+        channel.target_path = "weights";
+        animation.channels.push_back(channel);
+      }
+    }
+    written += static_cast<size_t>(clip.frame_count);
+    if (!animation.channels.empty()) animations.push_back(std::move(animation));
+  }
+  model.animations = std::move(animations);
+
+  // Meshes only the stripped originals used go, and with them every byte nothing refers to.
+  std::vector<int> mesh_map(model.meshes.size(), -1);
+  std::vector<tinygltf::Mesh> meshes;
+  for (tinygltf::Node& node : model.nodes) {
+    if (node.mesh < 0 || static_cast<size_t>(node.mesh) >= mesh_map.size()) continue;
+    int& mapped = mesh_map[static_cast<size_t>(node.mesh)];
+    if (mapped < 0) {
+      mapped = static_cast<int>(meshes.size());
+      meshes.push_back(model.meshes[static_cast<size_t>(node.mesh)]);
+    }
+    node.mesh = mapped;
+  }
+  model.meshes = std::move(meshes);
+  std::vector<int> no_extra_accessors;
+  CompactBuffers(model, no_extra_accessors);
+
+  // The asset is the input's (copyright, extras); dmc wrote the file and says what it holds.
+  model.asset.generator = "dmc";
+  tinygltf::Value::Object asset_extras = model.asset.extras.IsObject()
+                                             ? model.asset.extras.Get<tinygltf::Value::Object>()
+                                             : tinygltf::Value::Object();
+  tinygltf::Value::Object dmc;
+  dmc["layout"] = tinygltf::Value(std::string("morph"));
+  dmc["frames"] = tinygltf::Value(static_cast<int>(frames.size()));
+  dmc["vertices"] = tinygltf::Value(static_cast<int>(record.vertex_map.size()));
+  dmc["frame_rate"] = tinygltf::Value(frame_rate);
+  asset_extras["dmc"] = tinygltf::Value(dmc);
+  model.asset.extras = tinygltf::Value(asset_extras);
+  model.extras = tinygltf::Value();
+  if (compact) {
+    for (const char* name : {"KHR_mesh_quantization"}) {
+      for (auto* list : {&model.extensionsUsed, &model.extensionsRequired}) {
+        if (std::find(list->begin(), list->end(), name) == list->end()) list->push_back(name);
+      }
+    }
+  }
+  if (encoding == GlbEncoding::kCompact) return SerializeMeshoptGlb(std::move(model));
+  return SerializeGlb(model);
+}
+
+}  // namespace dmc::io_internal
