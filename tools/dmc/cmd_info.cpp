@@ -31,6 +31,26 @@ int RunStreamInfo(const InfoArgs& args) {
   if (!info.ok()) return ReportError("info", info.status().WithContext(args.input), args.json);
   const double value_count = static_cast<double>(info->frame_count) * info->vertex_count;
   const auto bpfv = [&](uint64_t bytes_used) { return 8.0 * bytes_used / value_count; };
+  // A scene (format 1.3) lists the input's clips; reading them decompresses it.
+  std::vector<ClipInfo> clips;
+  if (info->scene_bytes > 0) {
+    auto scene = DecodeScene(*bytes);
+    if (!scene.ok()) return ReportError("info", scene.status().WithContext(args.input), args.json);
+    auto listed = SceneClips(*scene);
+    if (listed.ok()) {
+      clips = std::move(listed).value();
+    } else {
+      ReportWarning("info",
+                    "the stream's scene is not a dmc scene record: " + listed.status().message());
+    }
+  }
+  nlohmann::json clips_json = nlohmann::json::array();
+  for (const ClipInfo& clip : clips) {
+    clips_json.push_back({{"name", clip.name},
+                          {"first_frame", clip.first_frame},
+                          {"frames", clip.frame_count},
+                          {"start_time", clip.start_time}});
+  }
   if (args.json) {
     nlohmann::json segments = nlohmann::json::array();
     for (const SegmentInfo& s : info->segments) {
@@ -65,6 +85,9 @@ int RunStreamInfo(const InfoArgs& args) {
                {"bpfv", bpfv(info->total_bytes)},
                {"header_bytes", info->header_bytes},
                {"connectivity_bytes", info->connectivity_bytes},
+               {"scene_bytes", info->scene_bytes},
+               {"scene_size", info->scene_size},
+               {"clips", clips_json},
                {"segments", segments}});
     return 0;
   }
@@ -77,6 +100,14 @@ int RunStreamInfo(const InfoArgs& args) {
              info->reordered ? "the codec's own" : "the input's");
   fmt::print("  header {} B, connectivity {} B ({:.4f} bpfv)\n", info->header_bytes,
              info->connectivity_bytes, bpfv(info->connectivity_bytes));
+  if (info->scene_bytes > 0) {
+    fmt::print("  scene {} B ({} B decompressed), {} clip(s)\n", info->scene_bytes,
+               info->scene_size, clips.size());
+    for (const ClipInfo& clip : clips) {
+      fmt::print("    clip '{}': frames {}..{}\n", clip.name, clip.first_frame,
+                 clip.first_frame + clip.frame_count - 1);
+    }
+  }
   for (size_t i = 0; i < info->segments.size(); ++i) {
     const SegmentInfo& s = info->segments[i];
     fmt::print(

@@ -107,6 +107,10 @@ StatusOr<std::vector<uint8_t>> BuildGltfScene(const std::filesystem::path& input
                                               const ReadOptions& options, const ReadReport& report,
                                               int stream_vertices);
 
+// The clips a scene record lists (a stream's scene, dmc::DecodeScene), in frame order; empty for
+// a scene without animation. kParseError when `scene` is not a dmc scene record.
+StatusOr<std::vector<ClipInfo>> SceneClips(std::span<const uint8_t> scene);
+
 // The extension of `path` in lower case, with its dot (".pc2"; "" when there is none): how every
 // reader and writer of dmc, and the CLI, recognise a file's kind.
 std::string LowercaseExtension(const std::filesystem::path& path);

@@ -84,6 +84,9 @@ StatusOr<GltfImport> ReadGltf(const std::filesystem::path& path, const GltfReadO
 // cannot see (extras); they are kept and renumbered in place.
 void CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors);
 
+// The clips of a scene record (SceneClips in dmc/io.h).
+StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene);
+
 // The key of the scene record in its GLB's root extras (gltf_scene_record.cpp).
 inline constexpr const char* kSceneRecordKey = "dmc_scene";
 // The attribute a stripped primitive of the record keeps (glTF needs one): the vertex map.

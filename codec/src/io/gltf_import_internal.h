@@ -149,6 +149,12 @@ class ScenePoser {
   // when transforms take a finite position beyond what a float holds.
   Status Pose(double time, Eigen::Map<FramePositions> frame);
 
+  // Every scene node's global transform at `time` (identity for nodes outside the scene).
+  const std::vector<Matrix4>& NodeGlobals(double time) {
+    PoseNodes(time);
+    return globals_;
+  }
+
  private:
   // poses_, globals_ and joint_matrices_ at `time`.
   void PoseNodes(double time);

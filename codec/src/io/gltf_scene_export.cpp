@@ -5,11 +5,11 @@
 // children, so the scene's depth-first order, which is the vertex order of an import, is kept)
 // holding a new mesh: the node's primitives with their kept attributes and indices, plus POSITION
 // and NORMAL of the first written frame and one morph target per later frame, played by a weights
-// channel in each clip's animation. The stream's positions are world positions; the leaf node
-// takes them back into its node's space with the node's rest transform, unless an animation moves
-// the node or one of its ancestors, in which case the new node sits at the scene's root instead (a
-// skinned mesh's node transform is ignored by glTF, so world space is what its vertices were in).
-// Node animations, cameras, materials and the asset are the record's.
+// channel in each clip's animation. The stream's positions are world positions; each frame's are
+// taken into the node's space by the node's global transform at that frame's time, posed from the
+// record's node animations (which the file keeps), so the node's own motion moves the leaf and the
+// targets hold what the node's transform does not (a skin's deformation). Node animations,
+// cameras, materials and the asset are the record's.
 #include <algorithm>
 #include <map>
 
@@ -103,32 +103,28 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
   return out;
 }
 
-// Per node: whether an animation of the record moves it or an ancestor (TRS channels).
-std::vector<bool> MovedNodes(const tinygltf::Model& model, const std::vector<int>& parent) {
-  std::vector<bool> targeted(model.nodes.size(), false);
-  for (const tinygltf::Animation& animation : model.animations) {
-    for (const tinygltf::AnimationChannel& channel : animation.channels) {
-      if (channel.target_node >= 0 && static_cast<size_t>(channel.target_node) < targeted.size() &&
-          channel.target_path != "weights") {
-        targeted[static_cast<size_t>(channel.target_node)] = true;
-      }
+// Per written frame, every node's global transform: the clip's node animation at the frame's time
+// (the rest pose for a clip with none).
+StatusOr<std::vector<std::vector<gltf::Matrix4>>> FrameGlobals(const tinygltf::Model& model,
+                                                               const std::vector<ClipInfo>& clips,
+                                                               double frame_rate) {
+  DMC_ASSIGN_OR_RETURN(const gltf::SceneOrder scene, gltf::OrderScene(model));
+  const std::vector<gltf::PrimitiveInstance> no_instances;
+  const std::vector<std::vector<gltf::Matrix4>> no_binds;
+  std::vector<std::vector<gltf::Matrix4>> globals;
+  for (const ClipInfo& clip : clips) {
+    std::vector<gltf::Channel> channels;
+    if (clip.animation >= 0) {
+      DMC_ASSIGN_OR_RETURN(
+          channels, gltf::LoadChannels(model, model.animations[static_cast<size_t>(clip.animation)],
+                                       "animation " + std::to_string(clip.animation)));
+    }
+    gltf::ScenePoser poser(model, scene, no_instances, no_binds, channels);
+    for (int k = 0; k < clip.frame_count; ++k) {
+      globals.push_back(poser.NodeGlobals(clip.start_time + k / frame_rate));
     }
   }
-  std::vector<bool> moved(model.nodes.size(), false);
-  for (size_t n = 0; n < model.nodes.size(); ++n) {
-    for (int m = static_cast<int>(n); m >= 0; m = parent[static_cast<size_t>(m)]) {
-      if (targeted[static_cast<size_t>(m)]) moved[n] = true;
-    }
-  }
-  return moved;
-}
-
-gltf::Matrix4 RestGlobal(const tinygltf::Model& model, const std::vector<int>& parent, int node) {
-  gltf::Matrix4 global = gltf::Matrix4::Identity();
-  for (int m = node; m >= 0; m = parent[static_cast<size_t>(m)]) {
-    global = gltf::StaticPose(model.nodes[static_cast<size_t>(m)]).Local() * global;
-  }
-  return global;
+  return globals;
 }
 
 }  // namespace
@@ -165,15 +161,7 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
   std::vector<std::vector<float>> normals;  // per written frame, the whole stream's normals
   for (const int f : frames) normals.push_back(FrameNormals(sequence, f));
 
-  std::vector<int> parent(record_model.nodes.size(), -1);
-  for (size_t n = 0; n < record_model.nodes.size(); ++n) {
-    for (const int child : record_model.nodes[n].children) {
-      if (child >= 0 && static_cast<size_t>(child) < parent.size()) {
-        parent[static_cast<size_t>(child)] = static_cast<int>(n);
-      }
-    }
-  }
-  const std::vector<bool> moved = MovedNodes(record_model, parent);
+  DMC_ASSIGN_OR_RETURN(const auto frame_globals, FrameGlobals(record_model, clips, frame_rate));
   const PositionGrid world_grid(sequence);
   ModelBuilder builder(std::move(record_model));
   tinygltf::Model& model = builder.model();
@@ -189,11 +177,13 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
   std::vector<int> baked_nodes;
   for (const int n : node_order) {
     const std::vector<const RecordInstance*>& instances = by_node[n];
-    // World to the new node's space: the node's rest transform, or none at the root.
-    const gltf::Matrix4 to_local = moved[static_cast<size_t>(n)]
-                                       ? gltf::Matrix4::Identity()
-                                       : gltf::Matrix4(RestGlobal(model, parent, n).inverse());
-    const Eigen::Matrix3d normal_to_local = to_local.topLeftCorner<3, 3>().inverse().transpose();
+    // World to the node's space, per written frame.
+    std::vector<gltf::Matrix4> to_local(frames.size());
+    std::vector<Eigen::Matrix3d> normal_to_local(frames.size());
+    for (size_t j = 0; j < frames.size(); ++j) {
+      to_local[j] = frame_globals[j][static_cast<size_t>(n)].inverse();
+      normal_to_local[j] = to_local[j].topLeftCorner<3, 3>().inverse().transpose();
+    }
     // positions[i][j]: instance i's points in written frame j, in the new node's space.
     std::vector<std::vector<std::vector<double>>> positions(instances.size());
     std::vector<std::vector<std::vector<float>>> local_normals(instances.size());
@@ -207,11 +197,11 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
         for (int v = 0; v < instance.vertex_count; ++v) {
           const int32_t s = record.vertex_map[static_cast<size_t>(instance.first_vertex + v)];
           const Eigen::Vector4d world(frame(s, 0), frame(s, 1), frame(s, 2), 1.0);
-          const Eigen::Vector4d local = to_local * world;
+          const Eigen::Vector4d local = to_local[j] * world;
           const Eigen::Vector3d n_world(normals[j][3 * static_cast<size_t>(s)],
                                         normals[j][3 * static_cast<size_t>(s) + 1],
                                         normals[j][3 * static_cast<size_t>(s) + 2]);
-          Eigen::Vector3d n_local = normal_to_local * n_world;
+          Eigen::Vector3d n_local = normal_to_local[j] * n_world;
           n_local =
               n_local.norm() > 0 ? Eigen::Vector3d(n_local.normalized()) : Eigen::Vector3d(0, 0, 1);
           for (int c = 0; c < 3; ++c) {
@@ -228,7 +218,8 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
     }
     // One precision for the whole scene: the grid the motion-only GLB uses over every frame,
     // scaled into this node's space, so small parts are not coded finer than large ones.
-    const double local_scale = std::cbrt(std::abs(to_local.topLeftCorner<3, 3>().determinant()));
+    const double local_scale =
+        std::cbrt(std::abs(to_local.front().topLeftCorner<3, 3>().determinant()));
     const PositionGrid grid(lo, hi, world_grid.step() * local_scale);
 
     tinygltf::Mesh mesh = model.meshes[static_cast<size_t>(instances.front()->mesh)];
@@ -305,14 +296,8 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
     model.nodes.push_back(std::move(leaf));
     const int leaf_index = static_cast<int>(model.nodes.size()) - 1;
     baked_nodes.push_back(leaf_index);
-    if (moved[static_cast<size_t>(n)]) {
-      const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-      if (model.scenes.empty()) model.scenes.emplace_back();
-      model.scenes[static_cast<size_t>(scene)].nodes.push_back(leaf_index);
-    } else {
-      std::vector<int>& children = model.nodes[static_cast<size_t>(n)].children;
-      children.insert(children.begin(), leaf_index);
-    }
+    std::vector<int>& children = model.nodes[static_cast<size_t>(n)].children;
+    children.insert(children.begin(), leaf_index);
   }
 
   // One animation per clip: the record's node channels and a weights channel per baked node.

@@ -238,4 +238,29 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
   return SerializeGlb(model);
 }
 
+StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene) {
+  DMC_ASSIGN_OR_RETURN(const tinygltf::Model model, LoadGlbBytes(scene, "the scene"));
+  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey)) {
+    return ParseError("the scene holds no dmc scene record");
+  }
+  const tinygltf::Value& clips = model.extras.Get(kSceneRecordKey).Get("clips");
+  std::vector<ClipInfo> out;
+  for (size_t c = 0; clips.IsArray() && c < clips.ArrayLen(); ++c) {
+    const tinygltf::Value& entry = clips.Get(static_cast<int>(c));
+    auto number = [&](const char* key) {
+      return entry.Has(key) && entry.Get(key).IsNumber() ? entry.Get(key).GetNumberAsDouble() : 0.0;
+    };
+    ClipInfo clip;
+    clip.name = entry.Has("name") && entry.Get("name").IsString()
+                    ? entry.Get("name").Get<std::string>()
+                    : std::string();
+    clip.animation = static_cast<int>(number("animation"));
+    clip.start_time = number("start_time");
+    clip.first_frame = static_cast<int>(number("first_frame"));
+    clip.frame_count = static_cast<int>(number("frame_count"));
+    out.push_back(std::move(clip));
+  }
+  return out;
+}
+
 }  // namespace dmc::io_internal

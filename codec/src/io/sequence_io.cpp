@@ -602,4 +602,8 @@ StatusOr<std::vector<uint8_t>> BuildGltfScene(const std::filesystem::path& input
                                       stream_vertices);
 }
 
+StatusOr<std::vector<ClipInfo>> SceneClips(std::span<const uint8_t> scene) {
+  return io_internal::ReadSceneClips(scene);
+}
+
 }  // namespace dmc
