@@ -2,11 +2,12 @@
 # ctest driver of the browser-side tests (registered in tests/CMakeLists.txt):
 #   run.sh validate BUILD_DIR SHARED_DATA_DIR   Khronos glTF validator on dmc's GLB exports
 #   run.sh viewer   BUILD_DIR SHARED_DATA_DIR   headless chromium against `dmc view`
+#   run.sh player   BUILD_DIR SHARED_DATA_DIR   three.js's GLTFLoader playing dmc's GLB output
 # npm packages come from the committed package-lock.json files through `npm ci` into BUILD_DIR
 # (never into the source tree). Exits 77 (ctest: skipped) when node/npm or chromium is missing or
 # the npm registry cannot be reached.
 set -euo pipefail
-mode=${1:?usage: run.sh validate|viewer BUILD_DIR SHARED_DATA_DIR}
+mode=${1:?usage: run.sh validate|viewer|player BUILD_DIR SHARED_DATA_DIR}
 build=$(cd "${2:?build dir}" && pwd)
 shared=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -44,21 +45,31 @@ case "$mode" in
         files+=("$out")
       done
     done
-    # Real skinned and morph-target samples, imported and written back out, and decoded, when
-    # present.
-    for sample in cesium-man/CesiumMan.glb threejs-horse-morph/Horse.glb fox/Fox.glb; do
+    # Real skinned and morph-target samples: imported and written back out (float32), and
+    # encoded with their scene and decoded in every encoding, when present; the decoded scene is
+    # compared with the input (compare_scene.mjs).
+    compare=()
+    for sample in cesium-man/CesiumMan.glb threejs-horse-morph/Horse.glb fox/Fox.glb \
+                  robot-expressive/RobotExpressive.glb; do
       if [ -n "$shared" ] && [ -f "$shared/$sample" ]; then
         name=$(basename "$sample" .glb)
         "$dmc" convert "$shared/$sample" -o "$data/$name-export.glb" --max-frames 20 >/dev/null
-        "$dmc" encode "$data/$name-export.glb" -o "$data/$name.dmc" >/dev/null
-        for encoding in compact quantized; do
+        files+=("$data/$name-export.glb")
+        "$dmc" encode "$shared/$sample" -o "$data/$name.dmc" >/dev/null
+        fps=$("$dmc" info "$data/$name.dmc" --json | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).frame_rate))')
+        for encoding in compact quantized float; do
           "$dmc" decode "$data/$name.dmc" -o "$data/$name-$encoding.glb" --glb-encoding "$encoding" >/dev/null
           files+=("$data/$name-$encoding.glb")
         done
-        files+=("$data/$name-export.glb")
+        compare+=("$shared/$sample|$data/$name-quantized.glb|$fps")
       fi
     done
     (cd "$work" && node validate_glb.mjs "${files[@]}")
+    for item in "${compare[@]}"; do
+      IFS='|' read -r original decoded fps <<<"$item"
+      echo "== $(basename "$original") against $(basename "$decoded")"
+      (cd "$work" && node compare_scene.mjs "$original" "$decoded" "$fps")
+    done
     ;;
   viewer)
     [ -x /usr/bin/chromium ] || skip "/usr/bin/chromium not installed"
@@ -78,6 +89,32 @@ case "$mode" in
     [ -n "$url" ] || { echo "dmc view printed no URL"; cat "$data/view.err"; exit 1; }
     mkdir -p "$build/test-artifacts"
     (cd "$work" && node viewer_test.mjs "$url" "$build/test-artifacts/viewer.png")
+    ;;
+  player)
+    # three.js's GLTFLoader (+ MeshoptDecoder) plays dmc's GLB output in headless chromium.
+    [ -x /usr/bin/chromium ] || skip "/usr/bin/chromium not installed"
+    "$source_dir/tools/viewer/build.sh" "$build/bin/viewer" >/dev/null \
+      || skip "viewer build failed (npm registry unreachable?)"
+    npm_dir="$build/bin/viewer-npm"  # three.js and esbuild, installed by the viewer's build
+    cp "$here/gltf_player.js" "$npm_dir/src/gltf_player.js"
+    (cd "$npm_dir" && ./node_modules/.bin/esbuild src/gltf_player.js --bundle --format=esm \
+       --log-level=warning --outfile="$data/gltf_player.bundle.js")
+    cp "$here/gltf_player.html" "$data/"
+    cases=()
+    for encoding in compact quantized float; do
+      "$dmc" decode "$data/cloth.dmc" -o "$data/cloth-$encoding.glb" --glb-encoding "$encoding" >/dev/null
+      cases+=("cloth-$encoding.glb:1")
+    done
+    for sample in cesium-man/CesiumMan.glb fox/Fox.glb; do
+      if [ -n "$shared" ] && [ -f "$shared/$sample" ]; then
+        name=$(basename "$sample" .glb)
+        "$dmc" encode "$shared/$sample" -o "$data/$name.dmc" >/dev/null
+        "$dmc" decode "$data/$name.dmc" -o "$data/$name.glb" >/dev/null
+        clips=$("$dmc" info "$data/$name.dmc" --json | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).clips.length))')
+        cases+=("$name.glb:$clips")
+      fi
+    done
+    (cd "$work" && node gltf_player_test.mjs "$data" "${cases[@]}")
     ;;
   *) echo "unknown mode $mode"; exit 2 ;;
 esac

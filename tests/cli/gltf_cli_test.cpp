@@ -152,6 +152,61 @@ TEST(GltfCliTest, MeshoptCompressedSamplesRead) {
   EXPECT_EQ(encoded.exit_code, 0) << encoded.err;
 }
 
+// A glTF input's scene travels in the stream (format 1.3) and comes back in the decoded GLB: every
+// clip with its name, or one with --clip; --no-scene leaves it out on either side.
+TEST(GltfCliTest, TheSceneAndEveryClipTravelWithTheStream) {
+  DMC_REQUIRE_SHARED_DATA(fox, "fox/Fox.glb");
+  const auto dir = FreshTempDir("gltf");
+  const auto encoded =
+      RunDmc("encode " + Quoted(fox) + " -o " + Quoted(dir / "fox.dmc") + " --json");
+  ASSERT_EQ(encoded.exit_code, 0) << encoded.err;
+  const nlohmann::json report = Json(encoded);
+  EXPECT_GT(report["breakdown"]["scene"].get<double>(), 0);
+  EXPECT_LT(report["positions_bpfv"].get<double>(), report["bpfv"].get<double>());
+  const auto info = RunDmc("info " + Quoted(dir / "fox.dmc") + " --json");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_EQ(Json(info)["format_version"], "1.3");
+  ASSERT_EQ(Json(info)["clips"].size(), 3u);
+  EXPECT_EQ(Json(info)["clips"][1]["name"], "Walk");
+  const int walk_frames = Json(info)["clips"][1]["frames"];
+
+  ASSERT_EQ(
+      RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " + Quoted(dir / "fox.glb")).exit_code, 0);
+  const auto glb_info = RunDmc("info " + Quoted(dir / "fox.glb") + " --json");
+  ASSERT_EQ(glb_info.exit_code, 0) << glb_info.err;
+  ASSERT_EQ(Json(glb_info)["clips"].size(), 3u);
+  EXPECT_EQ(Json(glb_info)["clips"][2]["name"], "Run");
+  EXPECT_EQ(Json(glb_info)["frames"], Json(info)["frames"]);
+
+  const auto walk = RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " + Quoted(dir / "walk.glb") +
+                           " --clip Walk");
+  ASSERT_EQ(walk.exit_code, 0) << walk.err;
+  const auto walk_info = RunDmc("info " + Quoted(dir / "walk.glb") + " --json");
+  ASSERT_EQ(Json(walk_info)["clips"].size(), 1u);
+  EXPECT_EQ(Json(walk_info)["frames"], walk_frames);
+  const auto unknown =
+      RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " + Quoted(dir / "x.glb") + " --clip Swim");
+  EXPECT_EQ(unknown.exit_code, ExitCode(ErrorCode::kInvalidArgument));
+  EXPECT_THAT(unknown.err, HasSubstr("Survey, Walk, Run"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.glb"));
+
+  // Without the scene: the motion alone, and a stream of format 1.3 without a scene chunk.
+  const auto bare =
+      RunDmc("encode " + Quoted(fox) + " -o " + Quoted(dir / "bare.dmc") + " --no-scene --json");
+  ASSERT_EQ(bare.exit_code, 0) << bare.err;
+  EXPECT_EQ(Json(bare)["breakdown"]["scene"], 0);
+  EXPECT_LT(Json(bare)["bytes"].get<double>(), report["bytes"].get<double>());
+  const auto no_clip = RunDmc("decode " + Quoted(dir / "bare.dmc") + " -o " +
+                              Quoted(dir / "y.glb") + " --clip Walk");
+  EXPECT_EQ(no_clip.exit_code, ExitCode(ErrorCode::kInvalidArgument));
+  ASSERT_EQ(RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " + Quoted(dir / "motion.glb") +
+                   " --no-scene")
+                .exit_code,
+            0);
+  EXPECT_LT(std::filesystem::file_size(dir / "motion.glb"),
+            std::filesystem::file_size(dir / "fox.glb"));
+}
+
 TEST(GltfCliTest, SkinnedSampleIsAnInputLikeAnyOther) {
   DMC_REQUIRE_SHARED_DATA(cesium, "cesium-man/CesiumMan.glb");
   const auto dir = FreshTempDir("gltf");
