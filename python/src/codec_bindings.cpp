@@ -15,6 +15,7 @@
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
 #include "dmc/encoder_options.h"
+#include "dmc/io.h"
 #include "errors.h"
 
 namespace dmc::python {
@@ -103,7 +104,7 @@ py::dict ReportToDict(const EncodeReport& report, const EncoderOptions& options)
   return out;
 }
 
-py::dict StreamInfoToDict(const StreamInfo& info) {
+py::dict StreamInfoToDict(const StreamInfo& info, const std::vector<ClipInfo>& clips) {
   py::list segments;
   for (const SegmentInfo& s : info.segments) {
     py::dict bytes;
@@ -141,6 +142,18 @@ py::dict StreamInfoToDict(const StreamInfo& info) {
   out["bpfv"] = value_count > 0.0 ? 8.0 * static_cast<double>(info.total_bytes) / value_count : 0.0;
   out["header_bytes"] = info.header_bytes;
   out["connectivity_bytes"] = info.connectivity_bytes;
+  out["scene_bytes"] = info.scene_bytes;
+  out["scene_size"] = info.scene_size;
+  py::list clip_list;
+  for (const ClipInfo& clip : clips) {
+    py::dict entry;
+    entry["name"] = clip.name;
+    entry["first_frame"] = clip.first_frame;
+    entry["frames"] = clip.frame_count;
+    entry["start_time"] = clip.start_time;
+    clip_list.append(entry);
+  }
+  out["clips"] = clip_list;
   out["segments"] = segments;
   return out;
 }
@@ -329,8 +342,10 @@ constexpr const char* kInfoDoc = R"(info(data) -> dict
 Describes a .dmc stream without decoding it: the container header and every segment's parameters
 and sizes, checksums verified. The keys are those of `dmc info --json` (without "input"):
 format_version, name, vertices, triangles, frames, frame_rate (None when unknown), reordered,
-bytes, bpfv, header_bytes, connectivity_bytes, and segments (a list of dicts: first_frame, frames,
-rank, operator, operator_id, basis_bits, weight_bits, anchors, residual_step, anchor_step, bytes).
+bytes, bpfv, header_bytes, connectivity_bytes, scene_bytes and scene_size (0 without a scene),
+clips (a list of dicts: name, first_frame, frames, start_time; from the scene of a glTF input), and
+segments (a list of dicts: first_frame, frames, rank, operator, operator_id, basis_bits,
+weight_bits, anchors, residual_step, anchor_step, bytes).
 
 Args:
     data: bytes-like stream, or a str / os.PathLike path to a .dmc file.
@@ -363,10 +378,17 @@ void RegisterCodec(py::module_& module) {
   module.def(
       "info",
       [](const py::handle& data) {
-        const StreamInfo info = WithStream(data, [](std::span<const uint8_t> bytes) {
-          return ValueOrThrow(ReadStreamInfo(bytes));
+        std::vector<ClipInfo> clips;
+        const StreamInfo info = WithStream(data, [&](std::span<const uint8_t> bytes) {
+          StreamInfo parsed = ValueOrThrow(ReadStreamInfo(bytes));
+          // A scene (format 1.3) lists the input's clips, as dmc info does.
+          if (parsed.scene_bytes > 0) {
+            const std::vector<uint8_t> scene = ValueOrThrow(DecodeScene(bytes));
+            if (auto listed = SceneClips(scene); listed.ok()) clips = std::move(listed).value();
+          }
+          return parsed;
         });
-        return StreamInfoToDict(info);
+        return StreamInfoToDict(info, clips);
       },
       kInfoDoc, py::arg("data"));
 }
