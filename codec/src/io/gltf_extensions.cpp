@@ -232,7 +232,9 @@ Status DecodeDracoPrimitive(tinygltf::Model& model, tinygltf::Primitive& primiti
     }
     DMC_ASSIGN_OR_RETURN(tinygltf::Accessor * accessor, accessor_of(found->second));
     const int components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor->type));
-    if (accessor->count != points || components <= 0 || components != attribute->num_components()) {
+    // Vertex attributes have at most 4 components (MAT types are not vertex attributes).
+    if (accessor->count != points || components <= 0 || components > 4 ||
+        components != attribute->num_components()) {
       return ParseError(label + ": accessor for " + name + " holds " +
                         std::to_string(accessor->count) + " × " + std::to_string(components) +
                         " values, Draco decoded " + std::to_string(points) + " × " +
@@ -344,7 +346,7 @@ StatusOr<std::string> PrepareCompressedGeometry(std::string_view json_text,
     }
   }
   if (!changed) return std::string(json_text);
-  return document.dump();
+  return document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 Status RestoreCompressedGeometry(tinygltf::Model& model,
@@ -360,28 +362,37 @@ Status RestoreCompressedGeometry(tinygltf::Model& model,
     model.meshes[held.mesh].primitives[held.primitive].indices = static_cast<int>(held.accessor);
   }
   for (const FallbackBuffer& fallback : stand_ins.fallbacks) {
-    // Each compressed view may decode to at most kMeshoptMaxExpansion times its compressed bytes,
-    // and the buffer holds only those views (alignment aside): both bound what is allocated.
-    uint64_t needed = 0;
+    // Each compressed view decodes to at most kMeshoptMaxExpansion times its compressed bytes,
+    // which must lie in their source buffer, and the fallback holds only those views (alignment
+    // aside): their sum bounds what is allocated, wherever the views claim to sit.
+    uint64_t decodable = 0, extent = 0;
     for (size_t v = 0; v < model.bufferViews.size(); ++v) {
       const tinygltf::BufferView& view = model.bufferViews[v];
       if (view.buffer != static_cast<int>(fallback.index) || view.extensions.count(kMeshopt) == 0) {
         continue;
       }
       const std::string label = "buffer view " + std::to_string(v) + " (" + kMeshopt + ")";
-      DMC_ASSIGN_OR_RETURN(const size_t compressed,
-                           SizeMember(view.extensions.at(kMeshopt), "byteLength", label));
-      if (view.byteLength > kMeshoptMaxExpansion * uint64_t{compressed} + kMeshoptExpansionSlack) {
+      const tinygltf::Value& extension = view.extensions.at(kMeshopt);
+      DMC_ASSIGN_OR_RETURN(const size_t source, SizeMember(extension, "buffer", label));
+      DMC_ASSIGN_OR_RETURN(const size_t offset, SizeMember(extension, "byteOffset", label, 0));
+      DMC_ASSIGN_OR_RETURN(const size_t compressed, SizeMember(extension, "byteLength", label));
+      if (source >= model.buffers.size() || offset > model.buffers[source].data.size() ||
+          compressed > model.buffers[source].data.size() - offset) {
+        return ParseError(label + ": its compressed bytes lie outside their buffer");
+      }
+      const uint64_t cap = kMeshoptMaxExpansion * uint64_t{compressed} + kMeshoptExpansionSlack;
+      if (view.byteLength > cap) {
         return ParseError(label + ": declares " + std::to_string(view.byteLength) + " bytes from " +
                           std::to_string(compressed) +
                           " compressed, more than the codec can expand");
       }
-      needed = std::max<uint64_t>(needed, uint64_t{view.byteOffset} + view.byteLength);
+      decodable += view.byteLength + kFallbackPadding;
+      extent = std::max<uint64_t>(extent, uint64_t{view.byteOffset} + view.byteLength);
     }
-    if (fallback.byte_length > needed + kFallbackPadding) {
+    if (fallback.byte_length > decodable || extent > decodable) {
       return ParseError("buffer " + std::to_string(fallback.index) + " (" + kMeshopt +
-                        " fallback): byteLength " + std::to_string(fallback.byte_length) +
-                        " exceeds the " + std::to_string(needed) + " bytes its views decode to");
+                        " fallback): " + std::to_string(std::max(fallback.byte_length, extent)) +
+                        " bytes exceed the " + std::to_string(decodable) + " its views decode to");
     }
     model.buffers[fallback.index].data.assign(static_cast<size_t>(fallback.byte_length), 0);
   }

@@ -82,7 +82,8 @@ StatusOr<GltfImport> ReadGltf(const std::filesystem::path& path, const GltfReadO
 // Keeps only the accessors, buffer views and buffer bytes something still refers to (meshes,
 // animations, skins, images), in one buffer. `extra_accessors` are referenced from where the walk
 // cannot see (extras); they are kept and renumbered in place.
-void CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors);
+// kParseError when a buffer view lies outside its buffer or a reference names none.
+Status CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors);
 
 // The clips of a scene record (SceneClips in dmc/io.h).
 StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene);

@@ -165,11 +165,11 @@ double UniformKeyRate(const Clip& clip) {
 // slack).
 StatusOr<int> ClipFrameCount(const Clip& clip, double frame_rate, int max_frames) {
   const double span = (clip.end - clip.start) * frame_rate;
-  if (span > kMaxGltfFrames) {
-    return InvalidArgumentError("the animation would need more than 10^7 frames");
-  }
   const double slack =
       std::ldexp(std::abs(clip.start) + std::abs(clip.end), -23) * frame_rate + 1e-9;
+  if (!(span + slack <= kMaxGltfFrames)) {
+    return InvalidArgumentError("the animation would need more than 10^7 frames");
+  }
   int frame_count = static_cast<int>(std::floor(span + slack)) + 1;
   if (max_frames > 0) frame_count = std::min(frame_count, max_frames);
   return frame_count;
@@ -236,6 +236,65 @@ std::string ReplaceGlbJson(const std::string& glb, const GlbJsonChunk& chunk, st
   return out;
 }
 
+// tinygltf parses, copies and frees JSON recursively: a document nested deeper than this (a few
+// hundred bytes of brackets, or far fewer zstd-compressed in a stream's scene) would exhaust the
+// stack, so it is refused first. Real files nest a dozen levels.
+constexpr int kMaxJsonDepth = 128;
+
+Status CheckJsonDepth(std::string_view json) {
+  int depth = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < json.size(); ++i) {
+    const char c = json[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        return ParseError("the glTF JSON nests deeper than " + std::to_string(kMaxJsonDepth) +
+                          " levels");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return Status::Ok();
+}
+
+// tinygltf throws on some malformed input (std::out_of_range from a zero-length buffer's
+// at(0), nlohmann's parse errors): every call into it goes through here.
+template <typename Load>
+Status CallTinygltf(const std::string& label, Load&& load) {
+  try {
+    return load();
+  } catch (const std::bad_alloc&) {
+    throw;  // GuardAllocation's concern (resource-limit)
+  } catch (const std::exception& error) {
+    return ParseError(label + ": " + error.what());
+  }
+}
+
+// For a GLB held in memory: no file is ever read or written on its behalf.
+tinygltf::FsCallbacks NoFileSystem() {
+  tinygltf::FsCallbacks callbacks{};
+  callbacks.FileExists = [](const std::string&, void*) { return false; };
+  callbacks.ExpandFilePath = [](const std::string& path, void*) { return path; };
+  callbacks.ReadWholeFile = [](std::vector<unsigned char>*, std::string* error,
+                               const std::string& path, void*) {
+    if (error != nullptr) *error += "external file " + path + " refused\n";
+    return false;
+  };
+  callbacks.WriteWholeFile = [](std::string*, const std::string&, const std::vector<unsigned char>&,
+                                void*) { return false; };
+  callbacks.user_data = nullptr;
+  return callbacks;
+}
+
 // The whole file; kIoError naming it when it cannot be read or exceeds what tinygltf indexes.
 StatusOr<std::string> ReadWholeFile(const std::filesystem::path& path) {
   std::ifstream file(path, std::ios::binary);
@@ -280,15 +339,26 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
       bytes = binary ? ReplaceGlbJson(bytes, json_chunk, std::move(prepared)) : std::move(prepared);
     }
   }
+  if (binary) {
+    DMC_ASSIGN_OR_RETURN(json_chunk, CheckGlbContainer(bytes));
+  }
+  if (const Status depth =
+          CheckJsonDepth(std::string_view(bytes).substr(json_chunk.offset, json_chunk.length));
+      !depth.ok()) {
+    return depth.WithContext(path.string());
+  }
   tinygltf::Model model;
   std::string errors, warnings;
   const std::string base_dir = std::filesystem::absolute(path, error).parent_path().string();
-  const bool ok =
-      binary ? loader.LoadBinaryFromMemory(&model, &errors, &warnings,
-                                           reinterpret_cast<const unsigned char*>(bytes.data()),
-                                           static_cast<unsigned int>(bytes.size()), base_dir)
-             : loader.LoadASCIIFromString(&model, &errors, &warnings, bytes.data(),
-                                          static_cast<unsigned int>(bytes.size()), base_dir);
+  bool ok = false;
+  DMC_RETURN_IF_ERROR(CallTinygltf(path.string(), [&] {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &errors, &warnings,
+                                              reinterpret_cast<const unsigned char*>(bytes.data()),
+                                              static_cast<unsigned int>(bytes.size()), base_dir)
+                : loader.LoadASCIIFromString(&model, &errors, &warnings, bytes.data(),
+                                             static_cast<unsigned int>(bytes.size()), base_dir);
+    return Status::Ok();
+  }));
   if (!ok) {
     while (!errors.empty() && errors.back() == '\n') errors.pop_back();
     return ParseError(path.string() + ": " + (errors.empty() ? "not a glTF 2.0 file" : errors));
@@ -313,10 +383,18 @@ StatusOr<tinygltf::Model> LoadGlbBytes(std::span<const uint8_t> bytes, const std
   loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int,
                            const unsigned char*, int, void*) { return true; },
                         nullptr);
+  loader.SetFsCallbacks(NoFileSystem());
+  DMC_RETURN_IF_ERROR(
+      CheckJsonDepth(view.substr(checked->offset, checked->length)).WithContext(label));
   tinygltf::Model model;
   std::string errors, warnings;
-  if (!loader.LoadBinaryFromMemory(&model, &errors, &warnings, bytes.data(),
-                                   static_cast<unsigned int>(bytes.size()), "")) {
+  bool ok = false;
+  DMC_RETURN_IF_ERROR(CallTinygltf(label, [&] {
+    ok = loader.LoadBinaryFromMemory(&model, &errors, &warnings, bytes.data(),
+                                     static_cast<unsigned int>(bytes.size()), "");
+    return Status::Ok();
+  }));
+  if (!ok) {
     while (!errors.empty() && errors.back() == '\n') errors.pop_back();
     return ParseError(label + ": " + (errors.empty() ? "not a glTF 2.0 file" : errors));
   }

@@ -28,8 +28,16 @@ void AddExtensionName(std::vector<std::string>& names, const std::string& name) 
 StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model) {
   std::ostringstream stream;
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false, /*writeBinary=*/true)) {
-    return InternalError("tinygltf failed to serialise the GLB");
+  try {
+    if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/false,
+                                       /*writeBinary=*/true)) {
+      return InternalError("tinygltf failed to serialise the GLB");
+    }
+  } catch (const std::bad_alloc&) {
+    throw;  // GuardAllocation's concern (resource-limit)
+  } catch (const std::exception& error) {
+    // nlohmann refuses strings that are not UTF-8 (a scene record's names, say).
+    return ParseError(std::string("the glTF cannot be written: ") + error.what());
   }
   const std::string bytes = std::move(stream).str();
   return std::vector<uint8_t>(bytes.begin(), bytes.end());
@@ -38,24 +46,34 @@ StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model) {
 StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
   if (model.buffers.size() != 1) return InternalError("meshopt packing expects one buffer");
   const std::vector<unsigned char> raw = std::move(model.buffers[0].data);
-  // Which views hold indices: the TRIANGLES codec needs the index size and a multiple of 3.
   std::vector<int> index_size(model.bufferViews.size(), 0);
   std::vector<char> triangle_list(model.bufferViews.size(), 1);
+  // Which views hold indices: the index codecs need the index size. The triangle codec may
+  // rotate a triangle's corners, so it is used only for views of triangle lists whose accessors
+  // all start on a triangle.
+  const size_t view_count = model.bufferViews.size();
+  auto valid_view = [&](int view) { return view >= 0 && static_cast<size_t>(view) < view_count; };
   for (const tinygltf::Mesh& mesh : model.meshes) {
     for (const tinygltf::Primitive& primitive : mesh.primitives) {
-      if (primitive.indices < 0) continue;
+      if (primitive.indices < 0 ||
+          static_cast<size_t>(primitive.indices) >= model.accessors.size()) {
+        continue;
+      }
       const tinygltf::Accessor& accessor = model.accessors[static_cast<size_t>(primitive.indices)];
-      index_size[static_cast<size_t>(accessor.bufferView)] =
-          static_cast<int>(ComponentBytes(accessor.componentType));
-      if (primitive.mode != TINYGLTF_MODE_TRIANGLES) {
-        triangle_list[static_cast<size_t>(accessor.bufferView)] = 0;
+      if (!valid_view(accessor.bufferView)) continue;
+      const size_t view = static_cast<size_t>(accessor.bufferView);
+      const size_t bytes = ComponentBytes(accessor.componentType);
+      index_size[view] = static_cast<int>(bytes);
+      if (primitive.mode != TINYGLTF_MODE_TRIANGLES || bytes == 0 ||
+          accessor.byteOffset % (3 * bytes) != 0) {
+        triangle_list[view] = 0;
       }
     }
   }
   // The element size of each view (for views without byteStride).
   std::vector<size_t> element_size(model.bufferViews.size(), 0);
   for (const tinygltf::Accessor& accessor : model.accessors) {
-    if (accessor.bufferView < 0) continue;
+    if (!valid_view(accessor.bufferView)) continue;
     element_size[static_cast<size_t>(accessor.bufferView)] =
         ComponentBytes(accessor.componentType) *
         static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)));
@@ -161,7 +179,7 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
     if (view_extensions[v].is_null()) continue;
     document["bufferViews"][v]["extensions"][kMeshopt] = std::move(view_extensions[v]);
   }
-  std::string json = document.dump();
+  std::string json = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   while (json.size() % 4 != 0) json.push_back(' ');
   std::vector<uint8_t> out(glb.begin(), glb.begin() + 12);
   auto put = [&](uint32_t value) {

@@ -35,14 +35,20 @@ struct Record {
   std::vector<ClipInfo> clips;
 };
 
+// An integer member within ±2^30, else `fallback` (records come from streams: any value may be
+// there).
 int IntMember(const tinygltf::Value& object, const char* key, int fallback = -1) {
   if (!object.IsObject() || !object.Has(key)) return fallback;
   const tinygltf::Value& value = object.Get(key);
-  return value.IsNumber() || value.IsInt() ? static_cast<int>(value.GetNumberAsDouble()) : fallback;
+  if (!value.IsNumber() && !value.IsInt()) return fallback;
+  const double number = value.GetNumberAsDouble();
+  return std::abs(number) <= 0x1p30 && number == std::floor(number) ? static_cast<int>(number)
+                                                                    : fallback;
 }
 
 StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& sequence) {
-  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey)) {
+  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey) ||
+      !model.extras.Get(kSceneRecordKey).IsObject()) {
     return ParseError("the scene holds no dmc scene record");
   }
   const tinygltf::Value& record = model.extras.Get(kSceneRecordKey);
@@ -53,15 +59,21 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
                       " vertices, the stream has " + std::to_string(sequence.vertex_count()));
   }
   Record out;
+  const int map_accessor = IntMember(record, "vertex_map");
+  if (map_accessor < 0 || static_cast<size_t>(map_accessor) >= model.accessors.size() ||
+      model.accessors[static_cast<size_t>(map_accessor)].type != TINYGLTF_TYPE_SCALAR ||
+      model.accessors[static_cast<size_t>(map_accessor)].bufferView < 0) {
+    return ParseError("the scene record's vertex map is not a SCALAR accessor with data");
+  }
   DMC_ASSIGN_OR_RETURN(const std::vector<double> map,
-                       gltf::ReadAccessor(model, IntMember(record, "vertex_map"), "vertex map"));
+                       gltf::ReadAccessor(model, map_accessor, "vertex map"));
   for (const double v : map) {
     if (!(v >= 0 && v < sequence.vertex_count())) {
       return ParseError("the scene's vertex map names a vertex the stream does not have");
     }
     out.vertex_map.push_back(static_cast<int32_t>(v));
   }
-  const tinygltf::Value& instances = record.Get("instances");
+  const tinygltf::Value& instances = record.Has("instances") ? record.Get("instances") : record;
   for (size_t i = 0; instances.IsArray() && i < instances.ArrayLen(); ++i) {
     const tinygltf::Value& entry = instances.Get(static_cast<int>(i));
     RecordInstance instance{IntMember(entry, "node"), IntMember(entry, "mesh"),
@@ -70,6 +82,7 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
     const bool valid =
         instance.node >= 0 && static_cast<size_t>(instance.node) < model.nodes.size() &&
         instance.mesh >= 0 && static_cast<size_t>(instance.mesh) < model.meshes.size() &&
+        model.nodes[static_cast<size_t>(instance.node)].mesh == instance.mesh &&
         instance.primitive >= 0 &&
         static_cast<size_t>(instance.primitive) <
             model.meshes[static_cast<size_t>(instance.mesh)].primitives.size() &&
@@ -79,7 +92,8 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
     if (!valid) return ParseError("scene record instance " + std::to_string(i) + " is invalid");
     out.instances.push_back(instance);
   }
-  const tinygltf::Value& clips = record.Get("clips");
+  const tinygltf::Value& clips = record.Has("clips") ? record.Get("clips") : record;
+  int next_frame = 0;  // clips follow each other without overlap
   for (size_t c = 0; clips.IsArray() && c < clips.ArrayLen(); ++c) {
     const tinygltf::Value& entry = clips.Get(static_cast<int>(c));
     ClipInfo clip;
@@ -92,22 +106,24 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
     clip.start_time = entry.Has("start_time") && entry.Get("start_time").IsNumber()
                           ? entry.Get("start_time").GetNumberAsDouble()
                           : 0.0;
-    if (clip.first_frame < 0 || clip.frame_count < 1 ||
+    if (!std::isfinite(clip.start_time) || clip.first_frame < next_frame || clip.frame_count < 1 ||
         clip.first_frame > sequence.frame_count() - clip.frame_count || clip.animation < -1 ||
         clip.animation >= static_cast<int>(model.animations.size())) {
       return ParseError("scene record clip " + std::to_string(c) + " does not fit the stream's " +
                         std::to_string(sequence.frame_count()) + " frames");
     }
+    next_frame = clip.first_frame + clip.frame_count;
     out.clips.push_back(clip);
   }
   return out;
 }
 
-// Per written frame, every node's global transform: the clip's node animation at the frame's time
-// (the rest pose for a clip with none).
+// Per written frame, the global transforms of `nodes`: the clip's node animation at the frame's
+// time (the rest pose for a clip with none).
 StatusOr<std::vector<std::vector<gltf::Matrix4>>> FrameGlobals(const tinygltf::Model& model,
                                                                const std::vector<ClipInfo>& clips,
-                                                               double frame_rate) {
+                                                               double frame_rate,
+                                                               const std::vector<int>& nodes) {
   DMC_ASSIGN_OR_RETURN(const gltf::SceneOrder scene, gltf::OrderScene(model));
   const std::vector<gltf::PrimitiveInstance> no_instances;
   const std::vector<std::vector<gltf::Matrix4>> no_binds;
@@ -121,7 +137,9 @@ StatusOr<std::vector<std::vector<gltf::Matrix4>>> FrameGlobals(const tinygltf::M
     }
     gltf::ScenePoser poser(model, scene, no_instances, no_binds, channels);
     for (int k = 0; k < clip.frame_count; ++k) {
-      globals.push_back(poser.NodeGlobals(clip.start_time + k / frame_rate));
+      const std::vector<gltf::Matrix4>& all = poser.NodeGlobals(clip.start_time + k / frame_rate);
+      std::vector<gltf::Matrix4>& frame = globals.emplace_back();
+      for (const int n : nodes) frame.push_back(all[static_cast<size_t>(n)]);
     }
   }
   return globals;
@@ -158,10 +176,16 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
   for (const ClipInfo& clip : clips) {
     for (int k = 0; k < clip.frame_count; ++k) frames.push_back(clip.first_frame + k);
   }
+  // Each written frame is a morph target, and each clip's weights hold frames² values.
+  constexpr size_t kMaxMorphFrames = 8192;
+  if (frames.size() > kMaxMorphFrames) {
+    return InvalidArgumentError(
+        "a GLB of " + std::to_string(frames.size()) + " frames as morph targets is beyond the " +
+        std::to_string(kMaxMorphFrames) + " dmc writes: choose a clip, or write a .pc2 cache");
+  }
   std::vector<std::vector<float>> normals;  // per written frame, the whole stream's normals
   for (const int f : frames) normals.push_back(FrameNormals(sequence, f));
 
-  DMC_ASSIGN_OR_RETURN(const auto frame_globals, FrameGlobals(record_model, clips, frame_rate));
   const PositionGrid world_grid(sequence);
   ModelBuilder builder(std::move(record_model));
   tinygltf::Model& model = builder.model();
@@ -173,15 +197,26 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
     if (by_node[instance.node].empty()) node_order.push_back(instance.node);
     by_node[instance.node].push_back(&instance);
   }
+  DMC_ASSIGN_OR_RETURN(const auto frame_globals,
+                       FrameGlobals(model, clips, frame_rate, node_order));
   const size_t target_count = frames.size() - 1;
   std::vector<int> baked_nodes;
-  for (const int n : node_order) {
+  for (size_t node_rank = 0; node_rank < node_order.size(); ++node_rank) {
+    const int n = node_order[node_rank];
     const std::vector<const RecordInstance*>& instances = by_node[n];
     // World to the node's space, per written frame.
     std::vector<gltf::Matrix4> to_local(frames.size());
     std::vector<Eigen::Matrix3d> normal_to_local(frames.size());
     for (size_t j = 0; j < frames.size(); ++j) {
-      to_local[j] = frame_globals[j][static_cast<size_t>(n)].inverse();
+      // A node scaled to nothing hides its mesh (a common trick): any positions do then, and the
+      // previous frame's transform keeps them finite.
+      const gltf::Matrix4& global = frame_globals[j][node_rank];
+      const double det = global.topLeftCorner<3, 3>().determinant();
+      if (std::isfinite(det) && std::abs(det) > 1e-18 && global.allFinite()) {
+        to_local[j] = global.inverse();
+      } else {
+        to_local[j] = j > 0 ? to_local[j - 1] : gltf::Matrix4::Identity();
+      }
       normal_to_local[j] = to_local[j].topLeftCorner<3, 3>().inverse().transpose();
     }
     // positions[i][j]: instance i's points in written frame j, in the new node's space.
@@ -352,7 +387,7 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
   }
   model.meshes = std::move(meshes);
   std::vector<int> no_extra_accessors;
-  CompactBuffers(model, no_extra_accessors);
+  DMC_RETURN_IF_ERROR(CompactBuffers(model, no_extra_accessors));
 
   // The asset is the input's (copyright, extras); dmc wrote the file and says what it holds.
   model.asset.generator = "dmc";

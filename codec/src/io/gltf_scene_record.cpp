@@ -42,7 +42,33 @@ int AddUint32Accessor(tinygltf::Model& model, const std::vector<int32_t>& values
 
 }  // namespace
 
-void CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors) {
+Status CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors) {
+  // Every reference is checked first: the models here may come from a stream (a scene record).
+  for (size_t v = 0; v < model.bufferViews.size(); ++v) {
+    const tinygltf::BufferView& view = model.bufferViews[v];
+    if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size() ||
+        view.byteOffset > model.buffers[static_cast<size_t>(view.buffer)].data.size() ||
+        view.byteLength >
+            model.buffers[static_cast<size_t>(view.buffer)].data.size() - view.byteOffset) {
+      return ParseError("buffer view " + std::to_string(v) + " lies outside its buffer");
+    }
+  }
+  for (size_t a = 0; a < model.accessors.size(); ++a) {
+    const tinygltf::Accessor& accessor = model.accessors[a];
+    const int sparse_indices = accessor.sparse.isSparse ? accessor.sparse.indices.bufferView : -1;
+    const int sparse_values = accessor.sparse.isSparse ? accessor.sparse.values.bufferView : -1;
+    for (const int view : {accessor.bufferView, sparse_indices, sparse_values}) {
+      if (view < -1 || view >= static_cast<int>(model.bufferViews.size())) {
+        return ParseError("accessor " + std::to_string(a) + " names buffer view " +
+                          std::to_string(view) + ", which does not exist");
+      }
+    }
+  }
+  for (const tinygltf::Image& image : model.images) {
+    if (image.bufferView < -1 || image.bufferView >= static_cast<int>(model.bufferViews.size())) {
+      return ParseError("an image names a buffer view that does not exist");
+    }
+  }
   std::vector<int> accessor_map(model.accessors.size(), -1);
   std::vector<int> kept_accessors;
   auto keep_accessor = [&](int& index) {
@@ -102,16 +128,10 @@ void CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors) {
   for (const int index : kept_views) {
     tinygltf::BufferView view = model.bufferViews[static_cast<size_t>(index)];
     while (data.size() % 4 != 0) data.push_back(0);
-    const std::vector<unsigned char>& source =
-        view.buffer >= 0 && static_cast<size_t>(view.buffer) < model.buffers.size()
-            ? model.buffers[static_cast<size_t>(view.buffer)].data
-            : data;  // not reached for a loaded model: tinygltf checks buffer indices
-    const size_t begin = std::min(view.byteOffset, source.size());
-    const size_t end = std::min(begin + view.byteLength, source.size());
+    const std::vector<unsigned char>& source = model.buffers[static_cast<size_t>(view.buffer)].data;
     const size_t offset = data.size();
-    data.insert(data.end(), source.begin() + static_cast<long>(begin),
-                source.begin() + static_cast<long>(end));
-    data.resize(offset + view.byteLength, 0);
+    data.insert(data.end(), source.begin() + static_cast<long>(view.byteOffset),
+                source.begin() + static_cast<long>(view.byteOffset + view.byteLength));
     view.buffer = 0;
     view.byteOffset = offset;
     views.push_back(std::move(view));
@@ -121,6 +141,7 @@ void CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors) {
   tinygltf::Buffer buffer;
   buffer.data = std::move(data);
   model.buffers = {std::move(buffer)};
+  return Status::Ok();
 }
 
 StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
@@ -191,6 +212,14 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
       if (channel.target_path == "weights" && imported_nodes.count(channel.target_node)) continue;
       channels.push_back(channel);
     }
+    // Channels whose sampler does not exist are dropped (the importer never reads them either).
+    channels.erase(std::remove_if(channels.begin(), channels.end(),
+                                  [&](const tinygltf::AnimationChannel& channel) {
+                                    return channel.sampler < 0 ||
+                                           static_cast<size_t>(channel.sampler) >=
+                                               animation.samplers.size();
+                                  }),
+                   channels.end());
     // Samplers no channel uses any more go too.
     std::map<int, int> sampler_map;
     std::vector<tinygltf::AnimationSampler> samplers;
@@ -209,7 +238,7 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
   model.animations = std::move(kept_animations);
 
   std::vector<int> extra_accessors = {vertex_map_accessor};
-  CompactBuffers(model, extra_accessors);
+  DMC_RETURN_IF_ERROR(CompactBuffers(model, extra_accessors));
 
   tinygltf::Value::Array clip_entries;
   for (const ClipInfo& clip : clips) {

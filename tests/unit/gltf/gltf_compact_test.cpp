@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dmc/io.h"
+#include "gltf_test_models.h"
 #include "io/gltf_import_internal.h"
 #include "test_support.h"
 
@@ -20,6 +21,8 @@ namespace {
 using io_internal::EncodeGlb;
 using io_internal::GlbEncoding;
 using io_internal::GlbLayout;
+using testing::Glb;
+using testing::SplitGlb;
 
 // A 6×6 grid that bends and turns over (its normals rotate by 180° about x) in 9 frames.
 MeshSequence TurningGrid() {
@@ -64,39 +67,6 @@ double HalfGridStep(const MeshSequence& sequence) {
     hi = hi.cwiseMax(sequence.frame(f).colwise().maxCoeff().transpose());
   }
   return 0.5 * (0.5 * (hi - lo).maxCoeff() / 16383.0);
-}
-
-// A GLB container of `json` and `bin`.
-std::vector<uint8_t> Glb(const nlohmann::json& json, std::vector<uint8_t> bin) {
-  std::string text = json.dump();
-  while (text.size() % 4 != 0) text.push_back(' ');
-  while (bin.size() % 4 != 0) bin.push_back(0);
-  std::vector<uint8_t> out;
-  auto put = [&](uint32_t value) {
-    for (int b = 0; b < 4; ++b) out.push_back(static_cast<uint8_t>(value >> (8 * b)));
-  };
-  put(0x46546C67u);
-  put(2);
-  put(static_cast<uint32_t>(12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size())));
-  put(static_cast<uint32_t>(text.size()));
-  put(0x4E4F534Au);
-  out.insert(out.end(), text.begin(), text.end());
-  if (!bin.empty()) {
-    put(static_cast<uint32_t>(bin.size()));
-    put(0x004E4942u);
-    out.insert(out.end(), bin.begin(), bin.end());
-  }
-  return out;
-}
-
-std::pair<nlohmann::json, std::vector<uint8_t>> SplitGlb(const std::vector<uint8_t>& glb) {
-  uint32_t json_length = 0, bin_length = 0;
-  std::memcpy(&json_length, glb.data() + 12, 4);
-  std::memcpy(&bin_length, glb.data() + 20 + json_length, 4);
-  nlohmann::json json = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_length);
-  std::vector<uint8_t> bin(glb.begin() + 28 + json_length,
-                           glb.begin() + 28 + json_length + bin_length);
-  return {json, bin};
 }
 
 TEST(GltfCompactTest, EveryLayoutAndEncodingReadsBackWithinHalfAGridStep) {

@@ -3,6 +3,7 @@
 // and the five glTF samples of ../shared/data.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -196,6 +197,86 @@ TEST(GltfSceneTest, OneClipAndErrors) {
   write.scene = imported.scene;
   MeshSequence other = testing::PlanarGrid(3, 2);
   EXPECT_EQ(WriteSequence(other, out, write).code(), ErrorCode::kParseError);
+}
+
+// A scene record comes from a stream: whatever it holds, writing a GLB from it either works or
+// says what is wrong, and never reads or writes out of bounds.
+TEST(GltfSceneTest, HostileRecordsAreRefused) {
+  const auto dir = TempDir();
+  const Imported imported = Import(WriteTestScene(dir));
+  const auto [json, bin] = testing::SplitGlb(imported.scene);
+  auto write = [&](const nlohmann::json& edited) {
+    WriteOptions options;
+    options.scene = testing::Glb(edited, bin);
+    return WriteSequence(imported.sequence, dir / "hostile.glb", options);
+  };
+  ASSERT_TRUE(write(json).ok());
+  {
+    nlohmann::json edited = json;
+    edited["accessors"][0]["bufferView"] = 100000;
+    EXPECT_EQ(write(edited).code(), ErrorCode::kParseError);
+  }
+  {
+    nlohmann::json edited = json;
+    edited["bufferViews"][0]["byteLength"] = uint64_t{1} << 40;
+    EXPECT_EQ(write(edited).code(), ErrorCode::kParseError);
+  }
+  {
+    nlohmann::json edited = json;  // an instance on a node that shows another mesh
+    nlohmann::json& instance = edited["extras"]["dmc_scene"]["instances"][0];
+    instance["mesh"] = 1 - instance["mesh"].get<int>();
+    EXPECT_EQ(write(edited).code(), ErrorCode::kParseError);
+  }
+  {
+    nlohmann::json edited = json;  // clips that overlap
+    edited["extras"]["dmc_scene"]["clips"][1]["first_frame"] = 0;
+    EXPECT_EQ(write(edited).code(), ErrorCode::kParseError);
+  }
+  {
+    nlohmann::json edited = json;
+    edited["extras"]["dmc_scene"]["vertex_map"] = 1e300;
+    EXPECT_EQ(write(edited).code(), ErrorCode::kParseError);
+  }
+  {
+    nlohmann::json edited = json;
+    edited["extras"]["dmc_scene"] = "not an object";
+    EXPECT_EQ(write(edited).code(), ErrorCode::kParseError);
+  }
+  {
+    nlohmann::json edited = json;  // a channel whose sampler does not exist
+    edited["animations"][0]["channels"][0]["sampler"] = 99;
+    const Status status = write(edited);
+    EXPECT_TRUE(status.ok() || status.code() == ErrorCode::kParseError) << status.ToString();
+  }
+  {
+    // JSON nested far deeper than any file: refused before tinygltf recurses into it.
+    std::string text = json.dump();
+    const std::string deep = std::string(20000, '[') + std::string(20000, ']');
+    text.insert(text.size() - 1, ",\"extras\":" + deep);
+    std::vector<uint8_t> glb = testing::Glb(nlohmann::json::object(), bin);
+    // Glb() takes a json value; splice the raw text in instead.
+    while (text.size() % 4 != 0) text.push_back(' ');
+    std::vector<uint8_t> raw(glb.begin(), glb.begin() + 12);
+    auto put = [&](uint32_t value) {
+      for (int b = 0; b < 4; ++b) raw.push_back(static_cast<uint8_t>(value >> (8 * b)));
+    };
+    put(static_cast<uint32_t>(text.size()));
+    put(0x4E4F534Au);
+    raw.insert(raw.end(), text.begin(), text.end());
+    std::vector<uint8_t> padded_bin = bin;
+    while (padded_bin.size() % 4 != 0) padded_bin.push_back(0);
+    put(static_cast<uint32_t>(padded_bin.size()));
+    put(0x004E4942u);
+    raw.insert(raw.end(), padded_bin.begin(), padded_bin.end());
+    const uint32_t total = static_cast<uint32_t>(raw.size());
+    std::memcpy(raw.data() + 8, &total, 4);
+    WriteOptions options;
+    options.scene = raw;
+    const Status status = WriteSequence(imported.sequence, dir / "deep.glb", options);
+    EXPECT_EQ(status.code(), ErrorCode::kParseError);
+    EXPECT_NE(status.message().find("nests deeper"), std::string::npos) << status.ToString();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "deep.glb"));
 }
 
 // Every sample: its materials, textures, images, UVs, clip names and copyright survive, and the

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstring>
+#include <nlohmann/json.hpp>
+#include <utility>
 #include <vector>
 
 #include "io/gltf_format.h"
@@ -111,6 +113,39 @@ class GltfBuilder {
 };
 
 // A unit right triangle in the z = 0 plane: (0,0,0), (1,0,0), (0,1,0).
+// A GLB container of `json` and `bin`.
+inline std::vector<uint8_t> Glb(const nlohmann::json& json, std::vector<uint8_t> bin) {
+  std::string text = json.dump();
+  while (text.size() % 4 != 0) text.push_back(' ');
+  while (bin.size() % 4 != 0) bin.push_back(0);
+  std::vector<uint8_t> out;
+  auto put = [&](uint32_t value) {
+    for (int b = 0; b < 4; ++b) out.push_back(static_cast<uint8_t>(value >> (8 * b)));
+  };
+  put(0x46546C67u);
+  put(2);
+  put(static_cast<uint32_t>(12 + 8 + text.size() + (bin.empty() ? 0 : 8 + bin.size())));
+  put(static_cast<uint32_t>(text.size()));
+  put(0x4E4F534Au);
+  out.insert(out.end(), text.begin(), text.end());
+  if (!bin.empty()) {
+    put(static_cast<uint32_t>(bin.size()));
+    put(0x004E4942u);
+    out.insert(out.end(), bin.begin(), bin.end());
+  }
+  return out;
+}
+
+inline std::pair<nlohmann::json, std::vector<uint8_t>> SplitGlb(const std::vector<uint8_t>& glb) {
+  uint32_t json_length = 0, bin_length = 0;
+  std::memcpy(&json_length, glb.data() + 12, 4);
+  std::memcpy(&bin_length, glb.data() + 20 + json_length, 4);
+  nlohmann::json json = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_length);
+  std::vector<uint8_t> bin(glb.begin() + 28 + json_length,
+                           glb.begin() + 28 + json_length + bin_length);
+  return {json, bin};
+}
+
 inline std::vector<float> UnitTriangle() { return {0, 0, 0, 1, 0, 0, 0, 1, 0}; }
 
 }  // namespace dmc::testing
