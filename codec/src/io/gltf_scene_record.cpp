@@ -269,15 +269,20 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
 
 StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene) {
   DMC_ASSIGN_OR_RETURN(const tinygltf::Model model, LoadGlbBytes(scene, "the scene"));
-  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey)) {
+  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey) ||
+      !model.extras.Get(kSceneRecordKey).IsObject() ||
+      !model.extras.Get(kSceneRecordKey).Has("clips")) {
     return ParseError("the scene holds no dmc scene record");
   }
   const tinygltf::Value& clips = model.extras.Get(kSceneRecordKey).Get("clips");
   std::vector<ClipInfo> out;
   for (size_t c = 0; clips.IsArray() && c < clips.ArrayLen(); ++c) {
     const tinygltf::Value& entry = clips.Get(static_cast<int>(c));
+    // Within ±2^30 (the record may come from any stream), else 0.
     auto number = [&](const char* key) {
-      return entry.Has(key) && entry.Get(key).IsNumber() ? entry.Get(key).GetNumberAsDouble() : 0.0;
+      const double value =
+          entry.Has(key) && entry.Get(key).IsNumber() ? entry.Get(key).GetNumberAsDouble() : 0.0;
+      return std::abs(value) <= 0x1p30 ? value : 0.0;
     };
     ClipInfo clip;
     clip.name = entry.Has("name") && entry.Get("name").IsString()
