@@ -46,6 +46,9 @@ std::vector<double> MeanValueDirectedWeights(const MeshTopology& topology,
         ++clamped_count;
       }
     }
+    // A corner that adds nothing is skipped: among them the corners of a triangle with a
+    // repeated vertex (o = i or o = j, so a or b is zero), whose edge o → o does not exist.
+    if (half_tangent == 0.0) return;
     double safe_a = length_a, safe_b = length_b;
     if (!(safe_a > length_floor)) safe_a = length_floor;
     if (!(safe_b > length_floor)) safe_b = length_floor;

@@ -203,6 +203,37 @@ TEST(GeometricOperators, DefectiveTrianglesAreClampedAndCountedNeverNaN) {
   for (const double w : k) EXPECT_LE(std::abs(w), GeometricOptions{}.max_cotangent);
 }
 
+// A triangle with a repeated vertex (allowed by indexed connectivity; RobotExpressive has three)
+// has a corner o equal to i or j: it adds nothing, and no weight o → o is ever touched (the mean
+// value loop once indexed slot -1 there).
+TEST(GeometricOperators, TrianglesWithARepeatedVertexAddNothing) {
+  MeshSequence grid = testing::PlanarGrid(4);
+  Triangles tris(grid.triangles().rows() + 2, 3);
+  tris.topRows(grid.triangles().rows()) = grid.triangles();
+  // On edges the grid does not have (0–15 and 3–12), so the grid's own corners are unchanged.
+  tris.row(grid.triangles().rows()) << 0, 0, 15;
+  tris.row(grid.triangles().rows() + 1) << 3, 12, 12;
+  const MeshTopology with = BuildTopology(tris, grid.vertex_count());
+  const MeshTopology without = BuildTopology(grid.triangles(), grid.vertex_count());
+  const FramePositionsD frame = grid.frame_d(0);
+  const std::vector<double> weights = MeanValueDirectedWeights(with, frame);
+  const std::vector<double> reference = MeanValueDirectedWeights(without, frame);
+  for (int v = 0; v < without.vertex_count; ++v) {
+    for (int s = without.ring_offsets[v]; s < without.ring_offsets[v + 1]; ++s) {
+      EXPECT_EQ(weights[RingSlot(with, v, without.ring_neighbors[s])], reference[s]);
+    }
+  }
+  for (const auto& [a, b] : {std::pair{0, 15}, std::pair{3, 12}}) {
+    EXPECT_EQ(weights[RingSlot(with, a, b)], 0.0);
+    EXPECT_EQ(weights[RingSlot(with, b, a)], 0.0);
+  }
+  for (const auto& builder : AllBuilders()) {
+    const auto op = builder.build(with, frame);
+    ASSERT_TRUE(op.ok()) << builder.name;
+    EXPECT_TRUE(Eigen::MatrixXd(op->matrix).allFinite()) << builder.name;
+  }
+}
+
 TEST(GeometricOperators, AllDegenerateMeshStillGivesFiniteOperators) {
   // Every vertex at the same point: no angle, no area, no length.
   MeshSequence grid = testing::PlanarGrid(4);
