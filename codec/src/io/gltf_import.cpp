@@ -327,6 +327,12 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
     if (!checked.ok()) return checked.status().WithContext(path.string());
     json_chunk = *checked;
   }
+  // Before any JSON parser recurses into it.
+  if (const Status depth =
+          CheckJsonDepth(std::string_view(bytes).substr(json_chunk.offset, json_chunk.length));
+      !depth.ok()) {
+    return depth.WithContext(path.string());
+  }
   // What tinygltf cannot load of the compressed-geometry extensions gets a stand-in first
   // (gltf_extensions.cpp).
   gltf::CompressedGeometryStandIns stand_ins;
@@ -338,14 +344,6 @@ StatusOr<tinygltf::Model> LoadGltfModel(const std::filesystem::path& path) {
     if (!stand_ins.fallbacks.empty() || !stand_ins.draco_indices.empty()) {
       bytes = binary ? ReplaceGlbJson(bytes, json_chunk, std::move(prepared)) : std::move(prepared);
     }
-  }
-  if (binary) {
-    DMC_ASSIGN_OR_RETURN(json_chunk, CheckGlbContainer(bytes));
-  }
-  if (const Status depth =
-          CheckJsonDepth(std::string_view(bytes).substr(json_chunk.offset, json_chunk.length));
-      !depth.ok()) {
-    return depth.WithContext(path.string());
   }
   tinygltf::Model model;
   std::string errors, warnings;
