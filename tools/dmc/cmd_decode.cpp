@@ -77,6 +77,7 @@ int RunDecode(const DecodeArgs& args) {
   }
 
   StatusOr<MeshSequence> sequence = InternalError("unset");
+  std::vector<uint8_t> scene;  // format 1.3: the input's scene, written back into a .glb
   if (args.segment >= 0) {
     Decoder decoder;
     const Status open = decoder.Open(*bytes, options);
@@ -84,9 +85,10 @@ int RunDecode(const DecodeArgs& args) {
       return ReportError("decode", WithLimitHint(open.WithContext(args.input)), args.json);
     }
     sequence = decoder.DecodeSegment(args.segment);
+    scene = decoder.scene();
   } else {
     show(0, 1);
-    sequence = Decode(*bytes, options);
+    sequence = Decode(*bytes, options, &scene);
     if (sequence.ok()) show(1, 1);
     progress.reset();
   }
@@ -100,11 +102,7 @@ int RunDecode(const DecodeArgs& args) {
   write_options.glb_encoding = args.glb_float ? "float" : args.glb_encoding;
   if (LowercaseExtension(args.output) == ".glb" && !args.no_scene) {
     // A glTF input's scene (format 1.3) comes back around the motion.
-    auto scene = DecodeScene(*bytes, options);
-    if (!scene.ok()) {
-      return ReportError("decode", scene.status().WithContext(args.input), args.json);
-    }
-    write_options.scene = std::move(scene).value();
+    write_options.scene = std::move(scene);
   }
   if (!args.clip.empty() && write_options.scene.empty()) {
     return ReportError("decode",

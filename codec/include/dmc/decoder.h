@@ -82,8 +82,10 @@ uint64_t DeclaredOutputBytes(const StreamInfo& info);
 // does no work that grows with the vertex count beyond the connectivity's own.
 StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream);
 
-// Decodes a whole stream.
-StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOptions& options = {});
+// Decodes a whole stream. `scene`, when given, receives the stream's scene (format 1.3,
+// DecodeScene), empty without one: a caller that wants both opens the stream once.
+StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOptions& options = {},
+                              std::vector<uint8_t>* scene = nullptr);
 StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,
                                   const DecoderOptions& options = {});
 

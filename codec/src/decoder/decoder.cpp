@@ -338,9 +338,11 @@ StatusOr<StreamInfo> ReadStreamInfo(std::span<const uint8_t> stream) {
 
 namespace {
 
-StatusOr<MeshSequence> DecodeWhole(std::span<const uint8_t> stream, const DecoderOptions& options) {
+StatusOr<MeshSequence> DecodeWhole(std::span<const uint8_t> stream, const DecoderOptions& options,
+                                   std::vector<uint8_t>* scene) {
   Decoder decoder;
   DMC_RETURN_IF_ERROR(decoder.Open(stream, options));
+  if (scene != nullptr) *scene = decoder.scene();
   const StreamInfo& info = decoder.info();
   // The output (12·V·F bytes) is allocated only once a segment has decoded and solved, so a tiny
   // stream declaring a huge mesh fails before it costs that memory.
@@ -365,9 +367,10 @@ StatusOr<MeshSequence> DecodeWhole(std::span<const uint8_t> stream, const Decode
 
 }  // namespace
 
-StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOptions& options) {
+StatusOr<MeshSequence> Decode(std::span<const uint8_t> stream, const DecoderOptions& options,
+                              std::vector<uint8_t>* scene) {
   return core_internal::GuardAllocation("decoding the stream",
-                                        [&] { return DecodeWhole(stream, options); });
+                                        [&] { return DecodeWhole(stream, options, scene); });
 }
 
 StatusOr<MeshSequence> DecodeFile(const std::filesystem::path& path,

@@ -37,11 +37,6 @@ bool RequiredExtensionIsHarmless(const std::string& name) {
                      [&](const char* prefix) { return name.rfind(prefix, 0) == 0; });
 }
 
-const tinygltf::Value& Member(const tinygltf::Value& value, const char* key) {
-  static const tinygltf::Value kNull;
-  return value.IsObject() && value.Has(key) ? value.Get(key) : kNull;
-}
-
 // A non-negative integer member of an extension object, or `fallback` when absent.
 StatusOr<size_t> SizeMember(const tinygltf::Value& object, const char* key,
                             const std::string& label,
@@ -153,16 +148,8 @@ template <typename T>
 void StoreDecoded(tinygltf::Model& model, tinygltf::Accessor& accessor,
                   const std::vector<T>& values, int component_type) {
   if (model.buffers.empty()) model.buffers.emplace_back();
-  std::vector<unsigned char>& data = model.buffers.back().data;
-  while (data.size() % 4 != 0) data.push_back(0);
-  tinygltf::BufferView view;
-  view.buffer = static_cast<int>(model.buffers.size()) - 1;
-  view.byteOffset = data.size();
-  view.byteLength = values.size() * sizeof(T);
-  const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
-  data.insert(data.end(), bytes, bytes + view.byteLength);
-  model.bufferViews.push_back(view);
-  accessor.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+  accessor.bufferView =
+      AppendBufferView(model, model.buffers.size() - 1, values.data(), values.size() * sizeof(T));
   accessor.byteOffset = 0;
   accessor.componentType = component_type;
   accessor.normalized = false;

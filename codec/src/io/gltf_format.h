@@ -30,6 +30,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dmc/io.h"
@@ -48,6 +49,36 @@ struct GltfImport {
   std::vector<ClipInfo> clips;  // in frame order; empty without animation
   std::vector<std::string> warnings;
 };
+
+// Appends `size` bytes to `model.buffers[buffer]` (4-byte aligned first, as accessors need) as a
+// new buffer view of `target` (0: none); returns the view's index.
+inline int AppendBufferView(tinygltf::Model& model, size_t buffer, const void* bytes, size_t size,
+                            int target = 0) {
+  std::vector<unsigned char>& data = model.buffers[buffer].data;
+  while (data.size() % 4 != 0) data.push_back(0);
+  tinygltf::BufferView view;
+  view.buffer = static_cast<int>(buffer);
+  view.byteOffset = data.size();
+  view.byteLength = size;
+  view.target = target;
+  const auto* begin = static_cast<const unsigned char*>(bytes);
+  data.insert(data.end(), begin, begin + size);
+  model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size()) - 1;
+}
+
+// Where a GLB's JSON chunk lies (gltf_import.cpp), after checking the container as the glTF 2.0
+// spec (§4.4) defines it: the header's length is the file's, and every chunk fits. tinygltf 2.7
+// checks less (a BIN chunk may reach 8 bytes past the file), so nothing reaches it unchecked.
+struct GlbJsonChunk {
+  size_t offset = 0;
+  size_t length = 0;
+};
+StatusOr<GlbJsonChunk> CheckGlbContainer(std::string_view glb);
+
+// The GLB with its JSON chunk (`chunk`, from CheckGlbContainer) replaced by `json`, padded with
+// spaces as the spec asks, and the header's length updated.
+std::string ReplaceGlbJson(std::string_view glb, const GlbJsonChunk& chunk, std::string json);
 
 // Loads a .gltf (JSON with external or embedded buffers) or .glb file. kIoError when the file
 // cannot be read, kParseError (with tinygltf's message) when it is not valid glTF.
@@ -85,6 +116,11 @@ StatusOr<GltfImport> ReadGltf(const std::filesystem::path& path, const GltfReadO
 // kParseError when a buffer view lies outside its buffer or a reference names none.
 Status CompactBuffers(tinygltf::Model& model, std::vector<int>& extra_accessors);
 
+// The record object of a scene record's GLB (its root extras' kSceneRecordKey), kParseError when
+// there is none.
+StatusOr<const tinygltf::Value*> FindSceneRecord(const tinygltf::Model& model);
+// The record's clips as listed, unchecked (fields that are missing or beyond ±2^30 read as -1).
+std::vector<ClipInfo> RecordClips(const tinygltf::Value& record);
 // The clips of a scene record (SceneClips in dmc/io.h).
 StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene);
 

@@ -31,17 +31,7 @@ class ModelBuilder {
 
   // Appends `bytes` as a new buffer view (4-byte aligned, as every accessor here needs).
   int AddView(const void* bytes, size_t size, int target = 0) {
-    std::vector<unsigned char>& data = model_.buffers[0].data;
-    while (data.size() % 4 != 0) data.push_back(0);
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = size;
-    view.target = target;
-    const auto* begin = static_cast<const unsigned char*>(bytes);
-    data.insert(data.end(), begin, begin + size);
-    model_.bufferViews.push_back(view);
-    return static_cast<int>(model_.bufferViews.size()) - 1;
+    return AppendBufferView(model_, 0, bytes, size, target);
   }
 
   // A float accessor of `count` elements of `type` (VEC3, SCALAR) over `values`, with min/max

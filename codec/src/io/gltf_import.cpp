@@ -13,21 +13,64 @@
 #include "io/gltf_import_internal.h"
 
 namespace dmc::io_internal {
+
+StatusOr<GlbJsonChunk> CheckGlbContainer(std::string_view glb) {
+  auto u32 = [&](size_t offset) {
+    uint32_t value = 0;
+    std::memcpy(&value, glb.data() + offset, 4);
+    return value;
+  };
+  if (glb.size() < 12 || u32(0) != 0x46546C67u) {
+    return ParseError("not a GLB file (it does not start with the glTF magic)");
+  }
+  if (u32(4) == 1) return UnsupportedError("a glTF 1.0 binary file (dmc reads glTF 2.0)");
+  if (u32(4) != 2) return ParseError("GLB container version " + std::to_string(u32(4)));
+  if (u32(8) != glb.size()) {
+    return ParseError("the GLB header declares " + std::to_string(u32(8)) +
+                      " bytes, the file has " + std::to_string(glb.size()) + " (truncated?)");
+  }
+  GlbJsonChunk json;
+  for (size_t offset = 12, chunk = 0; offset < glb.size(); ++chunk) {
+    if (glb.size() - offset < 8)
+      return ParseError("GLB chunk " + std::to_string(chunk) + " is cut");
+    const size_t length = u32(offset);
+    if (length > glb.size() - offset - 8) {
+      return ParseError("GLB chunk " + std::to_string(chunk) + " declares " +
+                        std::to_string(length) + " bytes, " +
+                        std::to_string(glb.size() - offset - 8) + " remain (truncated?)");
+    }
+    if (chunk == 0) {
+      if (u32(offset + 4) != 0x4E4F534Au) return ParseError("the first GLB chunk is not JSON");
+      json = {offset + 8, length};
+    }
+    offset += 8 + length;
+  }
+  if (json.offset == 0) return ParseError("the GLB holds no JSON chunk");
+  return json;
+}
+
+std::string ReplaceGlbJson(std::string_view glb, const GlbJsonChunk& chunk, std::string json) {
+  while (json.size() % 4 != 0) json.push_back(' ');
+  std::string out(glb.substr(0, 12));
+  auto put = [&](uint32_t value) { out.append(reinterpret_cast<const char*>(&value), 4); };
+  put(static_cast<uint32_t>(json.size()));
+  put(0x4E4F534Au);
+  out += json;
+  out.append(glb.substr(chunk.offset + chunk.length));
+  const uint32_t total = static_cast<uint32_t>(out.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  return out;
+}
+
 namespace {
 
 using gltf::Channel;
+using gltf::Member;
 
 constexpr double kDefaultFrameRate = 30.0;
 
 // Frames a glTF import may pose, over all its clips.
 constexpr int kMaxGltfFrames = 10'000'000;
-
-// `value[key]`, or a null value when `value` is not an object or has no such member (tinygltf's
-// Value::Get asserts on non-objects).
-const tinygltf::Value& Member(const tinygltf::Value& value, const char* key) {
-  static const tinygltf::Value kNull;
-  return value.IsObject() && value.Has(key) ? value.Get(key) : kNull;
-}
 
 // The sequence of a dmc "frames" export (see gltf_export.cpp): mesh f holds frame f, all sharing
 // one index accessor, under a root node whose transform dequantises compact exports. Posing the
@@ -178,63 +221,6 @@ StatusOr<int> ClipFrameCount(const Clip& clip, double frame_rate, int max_frames
 }  // namespace
 
 namespace {
-
-// Where a GLB's JSON chunk lies, after checking the container as the glTF 2.0 spec (§4.4) defines
-// it: the header's length is the file's, and every chunk fits. tinygltf 2.7 checks less (a BIN
-// chunk may reach 8 bytes past the file), so nothing reaches it unchecked.
-struct GlbJsonChunk {
-  size_t offset = 0;
-  size_t length = 0;
-};
-
-StatusOr<GlbJsonChunk> CheckGlbContainer(std::string_view glb) {
-  auto u32 = [&](size_t offset) {
-    uint32_t value = 0;
-    std::memcpy(&value, glb.data() + offset, 4);
-    return value;
-  };
-  if (glb.size() < 12 || u32(0) != 0x46546C67u) {
-    return ParseError("not a GLB file (it does not start with the glTF magic)");
-  }
-  if (u32(4) == 1) return UnsupportedError("a glTF 1.0 binary file (dmc reads glTF 2.0)");
-  if (u32(4) != 2) return ParseError("GLB container version " + std::to_string(u32(4)));
-  if (u32(8) != glb.size()) {
-    return ParseError("the GLB header declares " + std::to_string(u32(8)) +
-                      " bytes, the file has " + std::to_string(glb.size()) + " (truncated?)");
-  }
-  GlbJsonChunk json;
-  for (size_t offset = 12, chunk = 0; offset < glb.size(); ++chunk) {
-    if (glb.size() - offset < 8)
-      return ParseError("GLB chunk " + std::to_string(chunk) + " is cut");
-    const size_t length = u32(offset);
-    if (length > glb.size() - offset - 8) {
-      return ParseError("GLB chunk " + std::to_string(chunk) + " declares " +
-                        std::to_string(length) + " bytes, " +
-                        std::to_string(glb.size() - offset - 8) + " remain (truncated?)");
-    }
-    if (chunk == 0) {
-      if (u32(offset + 4) != 0x4E4F534Au) return ParseError("the first GLB chunk is not JSON");
-      json = {offset + 8, length};
-    }
-    offset += 8 + length;
-  }
-  if (json.offset == 0) return ParseError("the GLB holds no JSON chunk");
-  return json;
-}
-
-// The GLB with its JSON chunk replaced by `json` (padded with spaces, as the spec asks).
-std::string ReplaceGlbJson(const std::string& glb, const GlbJsonChunk& chunk, std::string json) {
-  while (json.size() % 4 != 0) json.push_back(' ');
-  std::string out = glb.substr(0, 12);
-  auto put = [&](uint32_t value) { out.append(reinterpret_cast<const char*>(&value), 4); };
-  put(static_cast<uint32_t>(json.size()));
-  put(0x4E4F534Au);
-  out += json;
-  out += glb.substr(chunk.offset + chunk.length);
-  const uint32_t total = static_cast<uint32_t>(out.size());
-  std::memcpy(out.data() + 8, &total, 4);
-  return out;
-}
 
 // tinygltf parses, copies and frees JSON recursively: a document nested deeper than this (a few
 // hundred bytes of brackets, or far fewer zstd-compressed in a stream's scene) would exhaust the
@@ -414,8 +400,7 @@ StatusOr<GltfImport> PoseGltfModel(const tinygltf::Model& model, const GltfReadO
     }
   }
   // A dmc "frames" export shows one mesh per frame in turn; its sequence is those meshes.
-  const tinygltf::Value& layout = Member(dmc_extras, "layout");
-  if (layout.IsString() && layout.Get<std::string>() == "frames" && options.mesh.empty()) {
+  if (gltf::IsDmcFramesExport(model) && options.mesh.empty()) {
     if (options.frame_rate == 0) options.frame_rate = kDefaultFrameRate;
     return ReadFramesExport(model, options, max_frames);
   }

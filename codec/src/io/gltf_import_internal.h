@@ -8,6 +8,7 @@
 //  - gltf_extensions.cpp: required extensions, meshopt- and Draco-compressed geometry.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -19,6 +20,32 @@
 namespace dmc::io_internal::gltf {
 
 using Matrix4 = Eigen::Matrix4d;
+
+// ----- JSON values -----------------------------------------------------------------------------
+
+// `value[key]`, or a null value when `value` is not an object or has no such member (tinygltf's
+// Value::Get asserts on non-objects).
+inline const tinygltf::Value& Member(const tinygltf::Value& value, const char* key) {
+  static const tinygltf::Value kNull;
+  return value.IsObject() && value.Has(key) ? value.Get(key) : kNull;
+}
+
+// An integer member within ±2^30, else `fallback` (a scene record comes from a stream: any value
+// may be there).
+inline int IntMember(const tinygltf::Value& object, const char* key, int fallback = -1) {
+  const tinygltf::Value& value = Member(object, key);
+  if (!value.IsNumber() && !value.IsInt()) return fallback;
+  const double number = value.GetNumberAsDouble();
+  return std::abs(number) <= 0x1p30 && number == std::floor(number) ? static_cast<int>(number)
+                                                                    : fallback;
+}
+
+// Whether `model` is a dmc "frames" export (asset.extras.dmc.layout), which holds one mesh per
+// frame rather than a scene to pose.
+inline bool IsDmcFramesExport(const tinygltf::Model& model) {
+  const tinygltf::Value& layout = Member(Member(model.asset.extras, "dmc"), "layout");
+  return layout.IsString() && layout.Get<std::string>() == "frames";
+}
 
 // ----- Accessors (gltf_accessors.cpp) ----------------------------------------------------------
 

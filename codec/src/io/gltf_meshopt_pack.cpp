@@ -161,15 +161,10 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
 
   // tinygltf writes a buffer's byteLength from its data, and would embed buffer 1 as a data URI:
   // the JSON chunk is rewritten with the fallback buffer as the extension declares it.
-  auto u32 = [&](size_t offset) {
-    uint32_t value = 0;
-    std::memcpy(&value, glb.data() + offset, 4);
-    return value;
-  };
-  const size_t json_length = u32(12);
-  nlohmann::json document =
-      nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + static_cast<long>(json_length),
-                            nullptr, /*allow_exceptions=*/false);
+  const std::string_view bytes(reinterpret_cast<const char*>(glb.data()), glb.size());
+  DMC_ASSIGN_OR_RETURN(const GlbJsonChunk chunk, CheckGlbContainer(bytes));
+  nlohmann::json document = nlohmann::json::parse(bytes.substr(chunk.offset, chunk.length), nullptr,
+                                                  /*allow_exceptions=*/false);
   if (document.is_discarded() || !document.contains("buffers") || document["buffers"].size() != 2) {
     return InternalError("tinygltf wrote an unexpected GLB");
   }
@@ -179,20 +174,9 @@ StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
     if (view_extensions[v].is_null()) continue;
     document["bufferViews"][v]["extensions"][kMeshopt] = std::move(view_extensions[v]);
   }
-  std::string json = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  while (json.size() % 4 != 0) json.push_back(' ');
-  std::vector<uint8_t> out(glb.begin(), glb.begin() + 12);
-  auto put = [&](uint32_t value) {
-    const auto* bytes = reinterpret_cast<const uint8_t*>(&value);
-    out.insert(out.end(), bytes, bytes + 4);
-  };
-  put(static_cast<uint32_t>(json.size()));
-  put(0x4E4F534Au);  // "JSON"
-  out.insert(out.end(), json.begin(), json.end());
-  out.insert(out.end(), glb.begin() + 20 + static_cast<long>(json_length), glb.end());
-  const uint32_t total = static_cast<uint32_t>(out.size());
-  std::memcpy(out.data() + 8, &total, 4);
-  return out;
+  const std::string out = ReplaceGlbJson(
+      bytes, chunk, document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  return std::vector<uint8_t>(out.begin(), out.end());
 }
 
 }  // namespace dmc::io_internal

@@ -24,6 +24,8 @@ using glb::ModelBuilder;
 using glb::NormalSteps;
 using glb::PositionGrid;
 using glb::QuantizeNormals;
+using gltf::IntMember;
+using gltf::Member;
 
 struct RecordInstance {
   int node = -1, mesh = -1, primitive = -1, first_vertex = 0, vertex_count = 0;
@@ -35,23 +37,9 @@ struct Record {
   std::vector<ClipInfo> clips;
 };
 
-// An integer member within ±2^30, else `fallback` (records come from streams: any value may be
-// there).
-int IntMember(const tinygltf::Value& object, const char* key, int fallback = -1) {
-  if (!object.IsObject() || !object.Has(key)) return fallback;
-  const tinygltf::Value& value = object.Get(key);
-  if (!value.IsNumber() && !value.IsInt()) return fallback;
-  const double number = value.GetNumberAsDouble();
-  return std::abs(number) <= 0x1p30 && number == std::floor(number) ? static_cast<int>(number)
-                                                                    : fallback;
-}
-
 StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& sequence) {
-  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey) ||
-      !model.extras.Get(kSceneRecordKey).IsObject()) {
-    return ParseError("the scene holds no dmc scene record");
-  }
-  const tinygltf::Value& record = model.extras.Get(kSceneRecordKey);
+  DMC_ASSIGN_OR_RETURN(const tinygltf::Value* found, FindSceneRecord(model));
+  const tinygltf::Value& record = *found;
   if (IntMember(record, "version") != 1) return UnsupportedError("scene record version");
   if (IntMember(record, "stream_vertices") != sequence.vertex_count()) {
     return ParseError("the scene record is for " +
@@ -73,7 +61,7 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
     }
     out.vertex_map.push_back(static_cast<int32_t>(v));
   }
-  const tinygltf::Value& instances = record.Has("instances") ? record.Get("instances") : record;
+  const tinygltf::Value& instances = Member(record, "instances");
   for (size_t i = 0; instances.IsArray() && i < instances.ArrayLen(); ++i) {
     const tinygltf::Value& entry = instances.Get(static_cast<int>(i));
     RecordInstance instance{IntMember(entry, "node"), IntMember(entry, "mesh"),
@@ -92,20 +80,10 @@ StatusOr<Record> ReadRecord(const tinygltf::Model& model, const MeshSequence& se
     if (!valid) return ParseError("scene record instance " + std::to_string(i) + " is invalid");
     out.instances.push_back(instance);
   }
-  const tinygltf::Value& clips = record.Has("clips") ? record.Get("clips") : record;
   int next_frame = 0;  // clips follow each other without overlap
-  for (size_t c = 0; clips.IsArray() && c < clips.ArrayLen(); ++c) {
-    const tinygltf::Value& entry = clips.Get(static_cast<int>(c));
-    ClipInfo clip;
-    clip.name = entry.Has("name") && entry.Get("name").IsString()
-                    ? entry.Get("name").Get<std::string>()
-                    : std::string();
-    clip.animation = IntMember(entry, "animation");
-    clip.first_frame = IntMember(entry, "first_frame");
-    clip.frame_count = IntMember(entry, "frame_count");
-    clip.start_time = entry.Has("start_time") && entry.Get("start_time").IsNumber()
-                          ? entry.Get("start_time").GetNumberAsDouble()
-                          : 0.0;
+  const std::vector<ClipInfo> clips = RecordClips(record);
+  for (size_t c = 0; c < clips.size(); ++c) {
+    const ClipInfo& clip = clips[c];
     if (!std::isfinite(clip.start_time) || clip.first_frame < next_frame || clip.frame_count < 1 ||
         clip.first_frame > sequence.frame_count() - clip.frame_count || clip.animation < -1 ||
         clip.animation >= static_cast<int>(model.animations.size())) {

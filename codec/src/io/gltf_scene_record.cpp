@@ -22,17 +22,8 @@ bool IsMotionAttribute(const std::string& name) {
 // A uint32 SCALAR accessor over `values`, appended to buffer 0.
 int AddUint32Accessor(tinygltf::Model& model, const std::vector<int32_t>& values) {
   if (model.buffers.empty()) model.buffers.emplace_back();
-  std::vector<unsigned char>& data = model.buffers[0].data;
-  while (data.size() % 4 != 0) data.push_back(0);
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = data.size();
-  view.byteLength = values.size() * sizeof(int32_t);
-  const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
-  data.insert(data.end(), bytes, bytes + view.byteLength);
-  model.bufferViews.push_back(view);
   tinygltf::Accessor accessor;
-  accessor.bufferView = static_cast<int>(model.bufferViews.size()) - 1;
+  accessor.bufferView = AppendBufferView(model, 0, values.data(), values.size() * sizeof(int32_t));
   accessor.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
   accessor.type = TINYGLTF_TYPE_SCALAR;
   accessor.count = values.size();
@@ -149,12 +140,7 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
                                                 const std::vector<int32_t>& vertex_map,
                                                 const std::vector<ClipInfo>& clips,
                                                 int stream_vertices) {
-  const tinygltf::Value* dmc_extras = model.asset.extras.IsObject() && model.asset.extras.Has("dmc")
-                                          ? &model.asset.extras.Get("dmc")
-                                          : nullptr;
-  if (dmc_extras != nullptr && dmc_extras->IsObject() && dmc_extras->Has("layout") &&
-      dmc_extras->Get("layout").IsString() &&
-      dmc_extras->Get("layout").Get<std::string>() == "frames" && options.mesh.empty()) {
+  if (gltf::IsDmcFramesExport(model) && options.mesh.empty()) {
     return std::vector<uint8_t>();  // a dmc frames export: one mesh per frame, no scene to keep
   }
   DMC_ASSIGN_OR_RETURN(const gltf::SceneOrder scene, gltf::OrderScene(model));
@@ -267,34 +253,35 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
   return SerializeGlb(model);
 }
 
-StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene) {
-  DMC_ASSIGN_OR_RETURN(const tinygltf::Model model, LoadGlbBytes(scene, "the scene"));
-  if (!model.extras.IsObject() || !model.extras.Has(kSceneRecordKey) ||
-      !model.extras.Get(kSceneRecordKey).IsObject() ||
-      !model.extras.Get(kSceneRecordKey).Has("clips")) {
-    return ParseError("the scene holds no dmc scene record");
-  }
-  const tinygltf::Value& clips = model.extras.Get(kSceneRecordKey).Get("clips");
+StatusOr<const tinygltf::Value*> FindSceneRecord(const tinygltf::Model& model) {
+  const tinygltf::Value& record = gltf::Member(model.extras, kSceneRecordKey);
+  if (!record.IsObject()) return ParseError("the scene holds no dmc scene record");
+  return &record;
+}
+
+std::vector<ClipInfo> RecordClips(const tinygltf::Value& record) {
+  const tinygltf::Value& clips = gltf::Member(record, "clips");
   std::vector<ClipInfo> out;
   for (size_t c = 0; clips.IsArray() && c < clips.ArrayLen(); ++c) {
     const tinygltf::Value& entry = clips.Get(static_cast<int>(c));
-    // Within ±2^30 (the record may come from any stream), else 0.
-    auto number = [&](const char* key) {
-      const double value =
-          entry.Has(key) && entry.Get(key).IsNumber() ? entry.Get(key).GetNumberAsDouble() : 0.0;
-      return std::abs(value) <= 0x1p30 ? value : 0.0;
-    };
     ClipInfo clip;
-    clip.name = entry.Has("name") && entry.Get("name").IsString()
-                    ? entry.Get("name").Get<std::string>()
-                    : std::string();
-    clip.animation = static_cast<int>(number("animation"));
-    clip.start_time = number("start_time");
-    clip.first_frame = static_cast<int>(number("first_frame"));
-    clip.frame_count = static_cast<int>(number("frame_count"));
+    const tinygltf::Value& name = gltf::Member(entry, "name");
+    clip.name = name.IsString() ? name.Get<std::string>() : std::string();
+    clip.animation = gltf::IntMember(entry, "animation");
+    clip.first_frame = gltf::IntMember(entry, "first_frame");
+    clip.frame_count = gltf::IntMember(entry, "frame_count");
+    const tinygltf::Value& start = gltf::Member(entry, "start_time");
+    clip.start_time = start.IsNumber() ? start.GetNumberAsDouble() : 0.0;
     out.push_back(std::move(clip));
   }
   return out;
+}
+
+StatusOr<std::vector<ClipInfo>> ReadSceneClips(std::span<const uint8_t> scene) {
+  DMC_ASSIGN_OR_RETURN(const tinygltf::Model model, LoadGlbBytes(scene, "the scene"));
+  DMC_ASSIGN_OR_RETURN(const tinygltf::Value* record, FindSceneRecord(model));
+  if (!record->Has("clips")) return ParseError("the scene record lists no clips");
+  return RecordClips(*record);
 }
 
 }  // namespace dmc::io_internal

@@ -18,6 +18,8 @@
 namespace dmc {
 namespace {
 
+using testing::TempFile;
+
 using io_internal::EncodeGlb;
 using io_internal::GlbEncoding;
 using io_internal::GlbLayout;
@@ -41,14 +43,6 @@ MeshSequence TurningGrid() {
   sequence.frame_rate = 24.0;
   sequence.name = "turning";
   return sequence;
-}
-
-std::filesystem::path TempFile(const std::string& name) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("dmc_gltf_" + std::string(info->test_suite_name()) + "_" + info->name());
-  std::filesystem::create_directories(dir);
-  return dir / name;
 }
 
 std::filesystem::path WriteBytes(const std::vector<uint8_t>& bytes, const std::string& name) {

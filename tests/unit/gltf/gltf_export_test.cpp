@@ -13,6 +13,8 @@
 namespace dmc {
 namespace {
 
+using testing::TempFile;
+
 using io_internal::GlbEncoding;
 using io_internal::GlbLayout;
 
@@ -33,14 +35,6 @@ MeshSequence WavingGrid() {
   sequence.frame_rate = 25.0;
   sequence.name = "grid";
   return sequence;
-}
-
-std::filesystem::path TempFile(const std::string& name) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("dmc_gltf_" + std::string(info->test_suite_name()) + "_" + info->name());
-  std::filesystem::create_directories(dir);
-  return dir / name;
 }
 
 tinygltf::Model LoadBack(const std::vector<uint8_t>& glb, const std::string& name) {

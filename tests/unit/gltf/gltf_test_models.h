@@ -2,8 +2,12 @@
 // positions can be computed by hand.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstring>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -114,6 +118,15 @@ class GltfBuilder {
 
 // A unit right triangle in the z = 0 plane: (0,0,0), (1,0,0), (0,1,0).
 // A GLB container of `json` and `bin`.
+// `name` in a temporary directory of the running test's own.
+inline std::filesystem::path TempFile(const std::string& name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("dmc_gltf_" + std::string(info->test_suite_name()) + "_" + info->name());
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
 inline std::vector<uint8_t> Glb(const nlohmann::json& json, std::vector<uint8_t> bin) {
   std::string text = json.dump();
   while (text.size() % 4 != 0) text.push_back(' ');
