@@ -110,6 +110,14 @@ int RunDecode(const DecodeArgs& args) {
                        args.json);
   }
   write_options.clip = args.clip;
+  if (args.segment < 0) {
+    // The basis layout fits each segment's low-rank motion apart.
+    auto info = ReadStreamInfo(*bytes);
+    if (!info.ok()) return ReportError("decode", info.status().WithContext(args.input), args.json);
+    for (const SegmentInfo& segment : info->segments) {
+      write_options.motion_blocks.push_back(segment.first_frame);
+    }
+  }
   std::optional<Progress> write_progress;
   write_options.progress = [&](int done, int total) {
     if (!write_progress) write_progress.emplace("writing", total, args.progress);
@@ -142,7 +150,9 @@ Command AddDecodeCommand(CLI::App& parent) {
   app->add_option("--frame-format", args->frame_format, "obj, off or ply for frame directories")
       ->capture_default_str();
   app->add_option("--glb-layout", args->glb_layout,
-                  "auto, morph or frames: how a .glb output holds the frames (auto: smaller file)")
+                  "auto, basis, morph or frames: how a .glb output animates the frames (basis: a "
+                  "few morph targets per segment; morph: one per frame; frames: one mesh per "
+                  "frame; auto: with a scene basis, else the smallest file)")
       ->capture_default_str();
   app->add_option("--glb-encoding", args->glb_encoding,
                   "compact (KHR_mesh_quantization + EXT_meshopt_compression), quantized (without "

@@ -136,9 +136,19 @@ StatusOr<MeshSequence> ReadSequence(const std::filesystem::path& input,
 
 struct WriteOptions {
   std::string frame_format = "obj";  // obj | off | ply: per-frame file format for directories
-  // .glb only: "morph" (frame 0 + morph targets, weights animation), "frames" (one mesh per
-  // frame, stepped) or "auto" (whichever file is smaller).
+  // .glb only: how the frames are animated.
+  //  - "basis": frame 0 plus a few morph targets per block of frames, each moving one coordinate
+  //    axis, with per-frame weights (a decoded stream is low rank in time, so the file grows with
+  //    the rank rather than the frame count); positions within one grid step of the sequence's
+  //    (half a step on average), normals within 4/127; quantised encodings only;
+  //  - "morph": frame 0 plus one morph target per later frame, weights animation;
+  //  - "frames": one mesh per frame, stepped (not with a scene);
+  //  - "auto": the smallest file of those the encoding allows (with a scene: basis when compact,
+  //    morph in float, the smaller of the two when quantized).
   std::string glb_layout = "auto";
+  // .glb basis layout only: sequence frames where the motion's low-rank structure restarts (a
+  // stream's segment starts, which `dmc decode` passes): each begins a new block of targets.
+  std::vector<int> motion_blocks;
   // .glb only: how vertex data is stored.
   //  - "compact": KHR_mesh_quantization (positions on a grid of 1/32766 of the largest
   //    bounding-box extent over all frames, so within half of that; 8-bit normals) and

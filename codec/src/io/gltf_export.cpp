@@ -1,8 +1,11 @@
-// GLB export of a mesh sequence, in one of two layouts (see GlbLayout in gltf_format.h), each in
-// one of three encodings (GlbEncoding): float32 positions and normals, or quantised ones
+// GLB export of a mesh sequence, in one of three layouts (see GlbLayout in gltf_format.h), each
+// in one of three encodings (GlbEncoding): float32 positions and normals, or quantised ones
 // (KHR_mesh_quantization: 15-bit positions on a grid over every frame, 8-bit normals), optionally
 // with every buffer view through EXT_meshopt_compression. The layouts differ in how the animation
 // switches frames:
+//  - basis (quantised only): frame 0 is the base mesh, and a few single-axis targets per block of
+//    frames with per-frame weights (gltf_motion_basis.h) move it; LINEAR interpolation of the
+//    weights is that of the positions, since they are linear in the weights.
 //  - morph: frame 0 is the base mesh and frame f (f ≥ 1) is morph target f−1 holding
 //    frame f − frame 0; the weights animation has one key per frame whose weight vector is one-hot
 //    (all zero at frame 0). LINEAR interpolation between two one-hot keys blends exactly the two
@@ -11,7 +14,7 @@
 //  - frames: one mesh per frame under one parent node; a STEP scale animation shows each frame's
 //    node (scale 1) during its frame interval and hides it (scale 0) otherwise. Costs a few hundred
 //    bytes of JSON per frame instead of the weights.
-// kAuto builds both and keeps the smaller file.
+// kAuto builds those the encoding allows and keeps the smallest file.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -125,6 +128,82 @@ tinygltf::Model MorphModel(const MeshSequence& sequence, double frame_rate, GlbE
   return std::move(model);
 }
 
+tinygltf::Model BasisModel(const MeshSequence& sequence, double frame_rate,
+                           const std::vector<int>& block_starts) {
+  ModelBuilder builder;
+  const int frame_count = sequence.frame_count();
+  const size_t vertex_count = static_cast<size_t>(sequence.vertex_count());
+  tinygltf::Primitive primitive;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  primitive.indices = builder.AddIndices(sequence.triangles(), sequence.vertex_count());
+  const PositionGrid grid(sequence);
+  const std::vector<int16_t> base_q = grid.Quantize(sequence, 0);
+  const std::vector<int8_t> base_normals_q = QuantizeNormals(FrameNormals(sequence, 0));
+  primitive.attributes["POSITION"] = builder.AddPaddedVec3(base_q, /*normalized=*/false);
+  primitive.attributes["NORMAL"] = builder.AddPaddedVec3(base_normals_q, /*normalized=*/true);
+  const std::vector<glb::FrameBlock> blocks = glb::SplitBlocks(frame_count, block_starts);
+  const auto positions = [&](int j, std::vector<double>& values) {
+    const auto frame = sequence.frame(j);
+    for (size_t v = 0; v < vertex_count; ++v) {
+      for (int c = 0; c < 3; ++c) {
+        values[3 * v + static_cast<size_t>(c)] =
+            grid.ToGrid(frame(static_cast<Eigen::Index>(v), c), c);
+      }
+    }
+  };
+  const auto normals = [&](int j, std::vector<double>& values) {
+    const std::vector<float> frame = FrameNormals(sequence, j);
+    for (size_t k = 0; k < frame.size(); ++k) values[k] = 32767.0 * frame[k];
+  };
+  std::vector<double> normal_base(base_normals_q.size());
+  for (size_t k = 0; k < normal_base.size(); ++k) {
+    normal_base[k] = 32767.0 / 127.0 * base_normals_q[k];
+  }
+  const auto position_targets =
+      glb::FitBlockTargets(positions, std::vector<double>(base_q.begin(), base_q.end()), blocks,
+                           glb::kBasisPositionTolerance);
+  const auto normal_targets =
+      glb::FitBlockTargets(normals, normal_base, blocks, glb::kBasisNormalTolerance);
+  glb::AddBasisTargets(builder, position_targets, normal_targets, 0, vertex_count, primitive);
+  const size_t target_count = primitive.targets.size();
+  tinygltf::Mesh mesh;
+  mesh.name = sequence.name.empty() ? "dmc" : ReplaceInvalidUtf8(sequence.name);
+  mesh.primitives.push_back(primitive);
+  mesh.weights.assign(target_count, 0.0);
+  tinygltf::Model& model = builder.model();
+  model.meshes.push_back(mesh);
+  tinygltf::Node node;
+  node.name = mesh.name;
+  node.mesh = 0;
+  grid.Apply(node);
+  RequireCompactExtensions(model);
+  model.nodes.push_back(node);
+  if (frame_count > 1 && target_count > 0) {
+    const glb::WeightTable table =
+        glb::BasisWeights(position_targets, normal_targets, blocks, frame_count);
+    std::vector<float> weights;
+    for (const std::vector<float>& frame : table) {
+      weights.insert(weights.end(), frame.begin(), frame.end());
+    }
+    tinygltf::AnimationSampler sampler;
+    sampler.input = builder.AddFloats(FrameTimes(frame_count, frame_rate), TINYGLTF_TYPE_SCALAR);
+    sampler.output = builder.AddFloats(weights, TINYGLTF_TYPE_SCALAR);
+    sampler.interpolation = "LINEAR";
+    tinygltf::AnimationChannel channel;
+    channel.sampler = 0;
+    channel.target_node = 0;
+    channel.target_path = "weights";
+    tinygltf::Animation animation;
+    animation.name = "frames";
+    animation.samplers.push_back(sampler);
+    animation.channels.push_back(channel);
+    model.animations.push_back(animation);
+  }
+  AddScene(model, mesh.name);
+  SetExtras(model, sequence, "basis", frame_rate);
+  return std::move(model);
+}
+
 tinygltf::Model FramesModel(const MeshSequence& sequence, double frame_rate, GlbEncoding encoding) {
   ModelBuilder builder;
   const bool compact = encoding != GlbEncoding::kFloat;
@@ -226,21 +305,36 @@ StatusOr<std::vector<uint8_t>> Serialize(tinygltf::Model model, GlbEncoding enco
 }  // namespace
 
 StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence, GlbLayout layout,
-                                         GlbEncoding encoding) {
+                                         GlbEncoding encoding,
+                                         const std::vector<int>& block_starts) {
   DMC_RETURN_IF_ERROR(ValidateSequence(sequence));
   const double frame_rate = sequence.frame_rate > 0 && std::isfinite(sequence.frame_rate)
                                 ? sequence.frame_rate
                                 : kDefaultFrameRate;
+  const bool quantized = encoding != GlbEncoding::kFloat;
+  if (layout == GlbLayout::kBasis && !quantized) {
+    return InvalidArgumentError(
+        "the basis layout stores quantised targets: use the compact or quantized encoding");
+  }
+  if (layout == GlbLayout::kBasis) {
+    return Serialize(BasisModel(sequence, frame_rate, block_starts), encoding);
+  }
   if (layout == GlbLayout::kMorph) {
     return Serialize(MorphModel(sequence, frame_rate, encoding), encoding);
   }
   if (layout == GlbLayout::kFrames) {
     return Serialize(FramesModel(sequence, frame_rate, encoding), encoding);
   }
-  DMC_ASSIGN_OR_RETURN(auto morph, Serialize(MorphModel(sequence, frame_rate, encoding), encoding));
+  DMC_ASSIGN_OR_RETURN(auto best, Serialize(MorphModel(sequence, frame_rate, encoding), encoding));
   DMC_ASSIGN_OR_RETURN(auto frames,
                        Serialize(FramesModel(sequence, frame_rate, encoding), encoding));
-  return morph.size() <= frames.size() ? std::move(morph) : std::move(frames);
+  if (frames.size() < best.size()) best = std::move(frames);
+  if (quantized) {
+    DMC_ASSIGN_OR_RETURN(auto basis,
+                         Serialize(BasisModel(sequence, frame_rate, block_starts), encoding));
+    if (basis.size() < best.size()) best = std::move(basis);
+  }
+  return best;
 }
 
 }  // namespace dmc::io_internal

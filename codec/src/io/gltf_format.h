@@ -140,7 +140,9 @@ StatusOr<std::vector<uint8_t>> BuildSceneRecord(tinygltf::Model model,
 
 // How an exported GLB holds the frames.
 enum class GlbLayout {
-  kAuto,    // whichever of the two below gives the smaller file
+  kAuto,    // the smallest file of those the encoding allows
+  kBasis,   // one mesh, frame 0 as base, a few single-axis morph targets per block of frames
+            // (gltf_motion_basis.h) with per-frame weights; quantised encodings only
   kMorph,   // one mesh, frame 0 as base, frames 1.. as morph targets, a LINEAR weights animation
   kFrames,  // one mesh per frame under one parent node, shown in turn by a STEP scale animation
 };
@@ -161,15 +163,21 @@ enum class GlbEncoding {
 
 StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence,
                                          GlbLayout layout = GlbLayout::kAuto,
-                                         GlbEncoding encoding = GlbEncoding::kCompact);
+                                         GlbEncoding encoding = GlbEncoding::kCompact,
+                                         const std::vector<int>& block_starts = {});
 
 // The GLB of a decoded sequence within its scene record (gltf_scene_export.cpp): the record's
 // nodes, materials, textures, kept attributes and node animations, the sequence's motion as morph
-// targets, each clip (or only the one named `clip`) as an animation. kParseError when the record
-// does not fit the sequence, kInvalidArgument for an unknown clip.
+// targets in `layout` (kBasis or kMorph; kAuto: kBasis compact, kMorph float, the smaller of the
+// two quantized), each clip (or only the
+// one named `clip`) as an animation. `block_starts` (sequence frames, e.g. a stream's segment
+// starts) begin new blocks of the basis layout, as every clip does. kParseError when the record
+// does not fit the sequence, kInvalidArgument for an unknown clip or a layout the encoding or a
+// scene cannot have.
 StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
-                                              std::span<const uint8_t> scene, GlbEncoding encoding,
-                                              const std::string& clip);
+                                              std::span<const uint8_t> scene, GlbLayout layout,
+                                              GlbEncoding encoding, const std::string& clip,
+                                              const std::vector<int>& block_starts = {});
 
 // The model as a GLB, buffer 0 as its BIN chunk.
 StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "io/gltf_format.h"
+#include "io/gltf_motion_basis.h"
 #include "io/utf8_text.h"
 
 namespace dmc::io_internal::glb {
@@ -204,6 +205,9 @@ class PositionGrid {
     return q;
   }
 
+  // A coordinate in grid units, unrounded and unclamped.
+  double ToGrid(double value, int axis) const { return (value - center_[axis]) / step_; }
+
   void Fit(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     center_ = 0.5 * (lo + hi);
     const double half_extent = 0.5 * (hi - lo).maxCoeff();
@@ -229,28 +233,60 @@ inline std::vector<int8_t> QuantizeNormals(const std::vector<float>& normals) {
   return q;
 }
 
-// The compact morph layout's normal displacements from frame f−1 to frame f, closed loop on the
-// running sum `sum` (int8 units, starts as the base normals): renderers normalise n_0 + Σ w·δ, so
-// the sum need only point along n_f, and s·n_f with the largest s ≤ 1 that keeps every step within
-// int8 is taken (at least 1/16; a normal that turns over in one frame may then be clamped).
-inline std::vector<int8_t> NormalSteps(const std::vector<float>& normals, std::vector<int>& sum) {
-  std::vector<int8_t> q(normals.size());
-  for (size_t v = 0; v < normals.size() / 3; ++v) {
-    double s = 1.0;
-    for (size_t c = 0; c < 3; ++c) {
-      const double target = 127.0 * normals[3 * v + c];
-      const double previous = sum[3 * v + c];
-      if (target - previous > 127.0) s = std::min(s, (previous + 127.0) / target);
-      if (target - previous < -127.0) s = std::min(s, (previous - 127.0) / target);
+// What the basis layout's fits must reproduce: positions in grid units (so within one grid step,
+// half of it on average), normals in units of 1/32767 on int8 targets (within 4/127, on average
+// half of 1/127, about the 8-bit base normals' own rounding).
+inline constexpr FitTolerance kBasisPositionTolerance{0.5, 1.0, 32767};
+inline constexpr FitTolerance kBasisNormalTolerance{0.5 * 32767.0 / 127.0, 4.0 * 32767.0 / 127.0,
+                                                    127};
+
+// Per frame, the weight of every target of a mesh.
+using WeightTable = std::vector<std::vector<float>>;
+
+// The basis layout's targets of one primitive, vertices [first, first + count) of those fitted:
+// the position targets (int16 in grid units), then the normal targets (normalised int16).
+inline void AddBasisTargets(ModelBuilder& builder, const std::vector<BlockTarget>& positions,
+                            const std::vector<BlockTarget>& normals, size_t first, size_t count,
+                            tinygltf::Primitive& primitive) {
+  const auto slice = [&](const AxisTarget& target) {
+    if (target.steps()) {
+      return std::vector<int16_t>(target.values.begin() + static_cast<long>(3 * first),
+                                  target.values.begin() + static_cast<long>(3 * (first + count)));
     }
-    s = std::max(s, 1.0 / 16);
-    for (size_t c = 0; c < 3; ++c) {
-      const double step = std::round(s * 127.0 * normals[3 * v + c]) - sum[3 * v + c];
-      q[3 * v + c] = static_cast<int8_t>(std::clamp(step, -127.0, 127.0));
-      sum[3 * v + c] += q[3 * v + c];
+    std::vector<int16_t> out(3 * count, 0);
+    for (size_t v = 0; v < count; ++v) {
+      out[3 * v + static_cast<size_t>(target.axis)] = target.values[first + v];
+    }
+    return out;
+  };
+  for (const BlockTarget& t : positions) {
+    primitive.targets.push_back(
+        {{"POSITION", builder.AddPaddedVec3(slice(t.target), /*normalized=*/false)}});
+  }
+  for (const BlockTarget& t : normals) {
+    const std::vector<int16_t> wide = slice(t.target);  // within int8 (kBasisNormalTolerance)
+    primitive.targets.push_back(
+        {{"NORMAL", builder.AddPaddedVec3(std::vector<int8_t>(wide.begin(), wide.end()),
+                                          /*normalized=*/true)}});
+  }
+}
+
+// The weights of AddBasisTargets' targets, in their order.
+inline WeightTable BasisWeights(const std::vector<BlockTarget>& positions,
+                                const std::vector<BlockTarget>& normals,
+                                std::span<const FrameBlock> blocks, int frame_count) {
+  WeightTable weights = TargetWeights(positions, blocks, frame_count);
+  WeightTable normal_weights = TargetWeights(normals, blocks, frame_count);
+  // Fitted in units of 1/32767, stored as normalised int8 (units of 1/127); steps are int8 units.
+  for (std::vector<float>& frame : normal_weights) {
+    for (size_t t = 0; t < frame.size(); ++t) {
+      if (!normals[t].target.steps()) frame[t] *= 127.0f / 32767.0f;
     }
   }
-  return q;
+  for (size_t j = 0; j < weights.size(); ++j) {
+    weights[j].insert(weights[j].end(), normal_weights[j].begin(), normal_weights[j].end());
+  }
+  return weights;
 }
 
 inline void RequireCompactExtensions(tinygltf::Model& model) {

@@ -4,8 +4,10 @@
 // the extension defines; other views (images, byte indices) stay in the BIN chunk as they are.
 #include <meshoptimizer.h>
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "io/gltf_format.h"
 
@@ -21,6 +23,140 @@ size_t ComponentBytes(int component_type) {
 
 void AddExtensionName(std::vector<std::string>& names, const std::string& name) {
   if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+}
+
+// Packs the vertex-attribute views of one byte stride, and the views of other accessors (keys,
+// weights) of one element size, into shared views, in order: every compressed view costs an
+// extension entry (about 200 bytes of JSON), which for a few hundred morph targets outweighs their
+// data. Index views and views that images or sparse accessors use stay as they are. A shared view
+// holds at most 64 MiB.
+void MergeViews(tinygltf::Model& model) {
+  constexpr size_t kMaxShared = size_t{64} << 20;
+  const size_t view_count = model.bufferViews.size();
+  std::vector<size_t> element(view_count, 0);  // the element size its accessors share; 0: mixed
+  std::vector<char> eligible(view_count, 0);
+  for (const tinygltf::Accessor& accessor : model.accessors) {
+    if (accessor.bufferView < 0 || static_cast<size_t>(accessor.bufferView) >= view_count) continue;
+    const auto v = static_cast<size_t>(accessor.bufferView);
+    const size_t size =
+        ComponentBytes(accessor.componentType) *
+        static_cast<size_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(accessor.type)));
+    if (eligible[v] == 0 && element[v] == 0) {
+      element[v] = size;
+      eligible[v] = 1;
+    } else if (element[v] != size) {
+      eligible[v] = -1;
+    }
+  }
+  const auto exclude = [&](int view) {
+    if (view >= 0 && static_cast<size_t>(view) < view_count)
+      eligible[static_cast<size_t>(view)] = -1;
+  };
+  for (const tinygltf::Image& image : model.images) exclude(image.bufferView);
+  for (const tinygltf::Accessor& accessor : model.accessors) {
+    if (accessor.sparse.isSparse) {
+      exclude(accessor.bufferView);
+      exclude(accessor.sparse.indices.bufferView);
+      exclude(accessor.sparse.values.bufferView);
+    }
+  }
+  // Views of vertex attributes: shared, they need a byteStride (a multiple of 4).
+  std::vector<char> vertex_data(view_count, 0);
+  const auto view_of = [&](int accessor) {
+    return accessor >= 0 && static_cast<size_t>(accessor) < model.accessors.size()
+               ? model.accessors[static_cast<size_t>(accessor)].bufferView
+               : -1;
+  };
+  for (const tinygltf::Mesh& mesh : model.meshes) {
+    for (const tinygltf::Primitive& primitive : mesh.primitives) {
+      exclude(view_of(primitive.indices));
+      std::vector<int> attributes;
+      for (const auto& [name, accessor] : primitive.attributes) attributes.push_back(accessor);
+      for (const auto& target : primitive.targets) {
+        for (const auto& [name, accessor] : target) attributes.push_back(accessor);
+      }
+      for (const int accessor : attributes) {
+        const int view = view_of(accessor);
+        if (view < 0 || static_cast<size_t>(view) >= view_count) continue;
+        vertex_data[static_cast<size_t>(view)] = 1;
+        if (model.bufferViews[static_cast<size_t>(view)].byteStride == 0 &&
+            element[static_cast<size_t>(view)] % 4 != 0) {
+          exclude(view);
+        }
+      }
+    }
+  }
+  const std::vector<unsigned char>& raw = model.buffers[0].data;
+  std::vector<unsigned char> data;
+  std::vector<tinygltf::BufferView> views;
+  std::vector<int> new_view(view_count, -1);
+  std::vector<size_t> offset_in_view(view_count, 0);
+  std::map<std::tuple<size_t, int, size_t>, int> open;  // (stride, target, element) → shared view
+  std::vector<std::vector<unsigned char>> shared;       // bytes of each shared view so far
+  std::vector<int> shared_view;                         // its index in `views`
+  for (size_t v = 0; v < view_count; ++v) {
+    const tinygltf::BufferView& view = model.bufferViews[v];
+    const size_t unit = view.byteStride != 0 ? view.byteStride : element[v];
+    const bool merge = eligible[v] == 1 && view.buffer == 0 && unit != 0 &&
+                       view.byteLength % unit == 0 &&
+                       view.byteOffset + view.byteLength <= raw.size();
+    if (!merge) {
+      tinygltf::BufferView copy = view;
+      new_view[v] = static_cast<int>(views.size());
+      if (view.buffer == 0 && view.byteOffset + view.byteLength <= raw.size()) {
+        while (data.size() % 4 != 0) data.push_back(0);
+        copy.byteOffset = data.size();
+        data.insert(data.end(), raw.begin() + static_cast<long>(view.byteOffset),
+                    raw.begin() + static_cast<long>(view.byteOffset + view.byteLength));
+      }
+      views.push_back(copy);
+      continue;
+    }
+    const size_t stride =
+        view.byteStride != 0 ? view.byteStride : (vertex_data[v] ? element[v] : 0);
+    const auto key = std::make_tuple(stride, view.target, element[v]);
+    auto found = open.find(key);
+    if (found == open.end() ||
+        shared[static_cast<size_t>(found->second)].size() + view.byteLength > kMaxShared) {
+      tinygltf::BufferView fresh;
+      fresh.buffer = 0;
+      fresh.byteStride = stride;
+      fresh.target = view.target;
+      shared_view.push_back(static_cast<int>(views.size()));
+      views.push_back(fresh);
+      shared.emplace_back();
+      found = open.insert_or_assign(key, static_cast<int>(shared.size()) - 1).first;
+    }
+    std::vector<unsigned char>& bytes = shared[static_cast<size_t>(found->second)];
+    new_view[v] = shared_view[static_cast<size_t>(found->second)];
+    offset_in_view[v] = bytes.size();
+    bytes.insert(bytes.end(), raw.begin() + static_cast<long>(view.byteOffset),
+                 raw.begin() + static_cast<long>(view.byteOffset + view.byteLength));
+  }
+  for (size_t g = 0; g < shared.size(); ++g) {
+    while (data.size() % 4 != 0) data.push_back(0);
+    tinygltf::BufferView& view = views[static_cast<size_t>(shared_view[g])];
+    view.byteOffset = data.size();
+    view.byteLength = shared[g].size();
+    data.insert(data.end(), shared[g].begin(), shared[g].end());
+  }
+  const auto remap = [&](int& view) {
+    if (view >= 0 && static_cast<size_t>(view) < view_count)
+      view = new_view[static_cast<size_t>(view)];
+  };
+  for (tinygltf::Accessor& accessor : model.accessors) {
+    if (accessor.bufferView >= 0 && static_cast<size_t>(accessor.bufferView) < view_count) {
+      accessor.byteOffset += offset_in_view[static_cast<size_t>(accessor.bufferView)];
+    }
+    remap(accessor.bufferView);
+    if (accessor.sparse.isSparse) {
+      remap(accessor.sparse.indices.bufferView);
+      remap(accessor.sparse.values.bufferView);
+    }
+  }
+  for (tinygltf::Image& image : model.images) remap(image.bufferView);
+  model.bufferViews = std::move(views);
+  model.buffers[0].data = std::move(data);
 }
 
 }  // namespace
@@ -45,6 +181,7 @@ StatusOr<std::vector<uint8_t>> SerializeGlb(const tinygltf::Model& model) {
 
 StatusOr<std::vector<uint8_t>> SerializeMeshoptGlb(tinygltf::Model model) {
   if (model.buffers.size() != 1) return InternalError("meshopt packing expects one buffer");
+  MergeViews(model);
   const std::vector<unsigned char> raw = std::move(model.buffers[0].data);
   std::vector<int> index_size(model.bufferViews.size(), 0);
   std::vector<char> triangle_list(model.bufferViews.size(), 1);

@@ -535,13 +535,15 @@ Status WriteSequenceUnguarded(const MeshSequence& sequence,
   if (extension == ".pc2") return WritePc2Pair(sequence, output, options);
   if (extension == ".glb") {
     io_internal::GlbLayout layout = io_internal::GlbLayout::kAuto;
-    if (options.glb_layout == "morph") {
+    if (options.glb_layout == "basis") {
+      layout = io_internal::GlbLayout::kBasis;
+    } else if (options.glb_layout == "morph") {
       layout = io_internal::GlbLayout::kMorph;
     } else if (options.glb_layout == "frames") {
       layout = io_internal::GlbLayout::kFrames;
     } else if (options.glb_layout != "auto") {
       return InvalidArgumentError("unknown GLB layout '" + options.glb_layout +
-                                  "' (expected auto, morph or frames)");
+                                  "' (expected auto, basis, morph or frames)");
     }
     io_internal::GlbEncoding encoding = io_internal::GlbEncoding::kCompact;
     if (options.glb_encoding == "quantized") {
@@ -555,15 +557,12 @@ Status WriteSequenceUnguarded(const MeshSequence& sequence,
     if (!options.clip.empty() && options.scene.empty()) {
       return InvalidArgumentError("a clip can be chosen only with a scene (the stream has none)");
     }
-    if (!options.scene.empty() && layout == io_internal::GlbLayout::kFrames) {
-      return InvalidArgumentError(
-          "the frames layout cannot hold a scene: use the morph layout, or leave the scene out");
-    }
     DMC_ASSIGN_OR_RETURN(
         const std::vector<uint8_t> glb,
         options.scene.empty()
-            ? io_internal::EncodeGlb(sequence, layout, encoding)
-            : io_internal::EncodeSceneGlb(sequence, options.scene, encoding, options.clip));
+            ? io_internal::EncodeGlb(sequence, layout, encoding, options.motion_blocks)
+            : io_internal::EncodeSceneGlb(sequence, options.scene, layout, encoding, options.clip,
+                                          options.motion_blocks));
     DMC_RETURN_IF_ERROR(WriteFileAtomically(output, glb));
     if (options.progress) options.progress(sequence.frame_count(), sequence.frame_count());
     return Status::Ok();

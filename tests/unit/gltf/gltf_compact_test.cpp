@@ -12,6 +12,7 @@
 
 #include "dmc/io.h"
 #include "gltf_test_models.h"
+#include "io/gltf_glb_builder.h"
 #include "io/gltf_import_internal.h"
 #include "test_support.h"
 
@@ -63,10 +64,12 @@ double HalfGridStep(const MeshSequence& sequence) {
   return 0.5 * (0.5 * (hi - lo).maxCoeff() / 16383.0);
 }
 
-TEST(GltfCompactTest, EveryLayoutAndEncodingReadsBackWithinHalfAGridStep) {
+// Morph and frames: within half a grid step (rounding); basis: within one (its fit's bound).
+TEST(GltfCompactTest, EveryLayoutAndEncodingReadsBackWithinItsBound) {
   const MeshSequence sequence = TurningGrid();
-  const double tolerance = HalfGridStep(sequence) * (1 + 1e-6) + 1e-6;
-  for (const GlbLayout layout : {GlbLayout::kMorph, GlbLayout::kFrames}) {
+  for (const GlbLayout layout : {GlbLayout::kMorph, GlbLayout::kFrames, GlbLayout::kBasis}) {
+    const double tolerance =
+        (layout == GlbLayout::kBasis ? 2 : 1) * HalfGridStep(sequence) * (1 + 1e-6) + 1e-6;
     for (const GlbEncoding encoding : {GlbEncoding::kCompact, GlbEncoding::kQuantized}) {
       SCOPED_TRACE(::testing::Message() << "layout " << static_cast<int>(layout) << " encoding "
                                         << static_cast<int>(encoding));
@@ -176,7 +179,8 @@ TEST(GltfCompactTest, WriteSequenceChoosesTheEncoding) {
     if (std::string(encoding) == "float") {
       EXPECT_LT(error, 1e-6);
     } else {
-      EXPECT_LE(error, HalfGridStep(sequence) * (1 + 1e-6) + 1e-6);
+      // auto may choose the basis layout: within one grid step.
+      EXPECT_LE(error, 2 * HalfGridStep(sequence) * (1 + 1e-6) + 1e-6);
     }
   }
   write.glb_encoding = "zip";
@@ -334,6 +338,84 @@ TEST(GltfCompactTest, RequiredExtensionsThatMoveVerticesAreNamed) {
   material["extensionsRequired"] = {"KHR_materials_variants"};
   WriteBytes(Glb(material, bin), "material.glb");
   EXPECT_TRUE(ReadSequence(TempFile("material.glb")).ok());
+}
+
+// A low-rank motion (two shapes blended over 60 frames, moving along x): the basis layout holds
+// a few targets per axis instead of 59, reads back within one grid step, is far smaller than the
+// morph layout, and refuses float32.
+TEST(GltfCompactTest, BasisLayoutGrowsWithTheRankNotTheFrames) {
+  MeshSequence sequence = testing::PlanarGrid(20, 60);
+  for (int f = 0; f < 60; ++f) {
+    const double a = std::sin(0.1 * f), b = std::cos(0.23 * f);
+    for (int v = 0; v < sequence.vertex_count(); ++v) {
+      const double x = sequence.frame(f)(v, 0), y = sequence.frame(f)(v, 1);
+      sequence.frame(f)(v, 0) = static_cast<float>(x + 0.01 * f);
+      sequence.frame(f)(v, 2) = static_cast<float>(0.2 * a * std::sin(3 * x) + 0.1 * b * x * y);
+    }
+  }
+  auto basis = EncodeGlb(sequence, GlbLayout::kBasis, GlbEncoding::kCompact);
+  auto morph = EncodeGlb(sequence, GlbLayout::kMorph, GlbEncoding::kCompact);
+  ASSERT_TRUE(basis.ok() && morph.ok()) << basis.status().ToString();
+  EXPECT_LT(basis->size(), morph->size() / 2);
+  const nlohmann::json json = SplitGlb(*basis).first;
+  EXPECT_EQ(json["asset"]["extras"]["dmc"]["layout"], "basis");
+  int position_targets = 0;
+  for (const auto& target : json["meshes"][0]["primitives"][0]["targets"]) {
+    position_targets += target.contains("POSITION") ? 1 : 0;
+  }
+  EXPECT_GE(position_targets, 2);
+  EXPECT_LE(position_targets, 3 * 3);  // x: a translation; z: two shapes (and the base's offset)
+  auto model = io_internal::LoadGltfModel(WriteBytes(*basis, "basis.glb"));
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  auto posed = io_internal::PoseGltfModel(*model, {});
+  ASSERT_TRUE(posed.ok()) << posed.status().ToString();
+  ASSERT_EQ(posed->sequence.frame_count(), 60);
+  const double tolerance = 2 * HalfGridStep(sequence) * (1 + 1e-6) + 1e-6;
+  for (int f = 0; f < 60; ++f) {
+    EXPECT_LE((posed->sequence.frame(f) - sequence.frame(f)).cwiseAbs().maxCoeff(), tolerance)
+        << "frame " << f;
+  }
+  auto float_basis = EncodeGlb(sequence, GlbLayout::kBasis, GlbEncoding::kFloat);
+  EXPECT_EQ(float_basis.status().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(float_basis.status().message().find("basis"), std::string::npos);
+}
+
+// The basis layout's normals: base + Σ weight·target, normalised, within 4/127 per component
+// (3° at most) of each frame's normals, including where they turn over.
+TEST(GltfCompactTest, BasisNormalsFollowEveryFrame) {
+  const MeshSequence sequence = TurningGrid();
+  auto glb = EncodeGlb(sequence, GlbLayout::kBasis, GlbEncoding::kQuantized);
+  ASSERT_TRUE(glb.ok());
+  auto model = io_internal::LoadGltfModel(WriteBytes(*glb, "basis.glb"));
+  ASSERT_TRUE(model.ok());
+  const tinygltf::Primitive& primitive = model->meshes[0].primitives[0];
+  auto read = [&](int accessor) {
+    auto values = io_internal::gltf::ReadAccessor(*model, accessor, "test");
+    EXPECT_TRUE(values.ok());
+    return std::move(values).value();
+  };
+  const std::vector<double> base = read(primitive.attributes.at("NORMAL"));
+  const tinygltf::AnimationSampler& sampler = model->animations[0].samplers[0];
+  const std::vector<double> weights = read(sampler.output);
+  const size_t targets = primitive.targets.size();
+  ASSERT_EQ(weights.size(), 9 * targets);
+  double worst = 0;
+  for (int f = 0; f < 9; ++f) {
+    std::vector<double> sum = base;
+    for (size_t t = 0; t < targets; ++t) {
+      if (primitive.targets[t].count("NORMAL") == 0) continue;
+      const std::vector<double> delta = read(primitive.targets[t].at("NORMAL"));
+      for (size_t i = 0; i < sum.size(); ++i)
+        sum[i] += weights[static_cast<size_t>(f) * targets + t] * delta[i];
+    }
+    const std::vector<float> truth = io_internal::glb::FrameNormals(sequence, f);
+    for (size_t v = 0; v < sum.size() / 3; ++v) {
+      const Eigen::Vector3d a(sum[3 * v], sum[3 * v + 1], sum[3 * v + 2]);
+      const Eigen::Vector3d b(truth[3 * v], truth[3 * v + 1], truth[3 * v + 2]);
+      worst = std::max(worst, std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+    }
+  }
+  EXPECT_LT(worst, 3.5 * M_PI / 180);
 }
 
 }  // namespace
