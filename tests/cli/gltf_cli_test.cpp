@@ -205,6 +205,30 @@ TEST(GltfCliTest, TheSceneAndEveryClipTravelWithTheStream) {
             0);
   EXPECT_LT(std::filesystem::file_size(dir / "motion.glb"),
             std::filesystem::file_size(dir / "fox.glb"));
+  // One segment: its motion alone (the clips span the stream), said on stderr.
+  const auto segment = RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " +
+                              Quoted(dir / "segment.glb") + " --segment 0");
+  ASSERT_EQ(segment.exit_code, 0) << segment.err;
+  EXPECT_THAT(segment.err, HasSubstr("without the scene"));
+  // Every layout a scene can take, and the frames layout refused with one.
+  for (const char* layout : {"basis", "morph"}) {
+    const auto out = dir / (std::string(layout) + ".glb");
+    ASSERT_EQ(RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " + Quoted(out) + " --glb-layout " +
+                     layout)
+                  .exit_code,
+              0)
+        << layout;
+    const auto layout_info = RunDmc("info " + Quoted(out) + " --json");
+    ASSERT_EQ(Json(layout_info)["clips"].size(), 3u) << layout;
+  }
+  const auto frames = RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " +
+                             Quoted(dir / "frames.glb") + " --glb-layout frames");
+  EXPECT_EQ(frames.exit_code, ExitCode(ErrorCode::kInvalidArgument));
+  EXPECT_THAT(frames.err, HasSubstr("basis or morph"));
+  const auto float_basis = RunDmc("decode " + Quoted(dir / "fox.dmc") + " -o " +
+                                  Quoted(dir / "fb.glb") + " --glb-layout basis --float");
+  EXPECT_EQ(float_basis.exit_code, ExitCode(ErrorCode::kInvalidArgument));
+  EXPECT_THAT(float_basis.err, HasSubstr("quantised targets"));
 }
 
 TEST(GltfCliTest, SkinnedSampleIsAnInputLikeAnyOther) {

@@ -100,9 +100,14 @@ int RunDecode(const DecodeArgs& args) {
   write_options.frame_format = args.frame_format;
   write_options.glb_layout = args.glb_layout;
   write_options.glb_encoding = args.glb_float ? "float" : args.glb_encoding;
-  if (LowercaseExtension(args.output) == ".glb" && !args.no_scene) {
-    // A glTF input's scene (format 1.3) comes back around the motion.
-    write_options.scene = std::move(scene);
+  if (LowercaseExtension(args.output) == ".glb" && !args.no_scene && !scene.empty()) {
+    if (args.segment >= 0) {
+      // The scene's clips span the whole stream, not one segment's frames.
+      ReportWarning("decode", "--segment writes the segment's motion alone, without the scene");
+    } else {
+      // A glTF input's scene (format 1.3) comes back around the motion.
+      write_options.scene = std::move(scene);
+    }
   }
   if (!args.clip.empty() && write_options.scene.empty()) {
     return ReportError("decode",
