@@ -109,9 +109,11 @@ Status CheckComparable(const MeshSequence& a, const MeshSequence& b) {
   auto canonical = [](const Triangles& tris) {
     std::vector<std::array<int32_t, 3>> out(tris.rows());
     for (Eigen::Index t = 0; t < tris.rows(); ++t) {
-      std::array<int32_t, 3> tri = {tris(t, 0), tris(t, 1), tris(t, 2)};
-      std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
-      out[t] = tri;
+      // The smallest of the three rotations (the first smallest index is ambiguous when an
+      // index repeats: (2, 3, 2) and (2, 2, 3) are one triangle).
+      const std::array<int32_t, 3> tri = {tris(t, 0), tris(t, 1), tris(t, 2)};
+      out[t] = std::min({tri, std::array<int32_t, 3>{tri[1], tri[2], tri[0]},
+                         std::array<int32_t, 3>{tri[2], tri[0], tri[1]}});
     }
     std::sort(out.begin(), out.end());
     return out;

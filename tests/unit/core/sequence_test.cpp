@@ -83,6 +83,11 @@ TEST(CheckComparable, NamesTheDifference) {
   std::swap(flipped.mutable_triangles()(1, 0), flipped.mutable_triangles()(1, 1));
   EXPECT_EQ(CheckComparable(a, flipped).code(), ErrorCode::kMismatch);
   EXPECT_EQ(CheckComparable(a, testing::PlanarGrid(3, 3)).code(), ErrorCode::kMismatch);
+  // A degenerate triangle with a repeated index, rotated (as meshopt's triangle codec may).
+  MeshSequence repeated = a, rotated = a;
+  repeated.mutable_triangles().row(2) << 2, 3, 2;
+  rotated.mutable_triangles().row(2) << 2, 2, 3;
+  EXPECT_TRUE(CheckComparable(repeated, rotated).ok());
 }
 
 TEST(BoundingBox, CoversAllFrames) {
