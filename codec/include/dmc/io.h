@@ -143,8 +143,10 @@ struct WriteOptions {
   //    (half a step on average), normals within 4/127; quantised encodings only;
   //  - "morph": frame 0 plus one morph target per later frame, weights animation;
   //  - "frames": one mesh per frame, stepped (not with a scene);
-  //  - "auto": the smallest file of those the encoding allows (with a scene: basis when compact,
-  //    morph in float, the smaller of the two when quantized).
+  //  - "auto": with a scene, basis when compact and morph otherwise; without one, the smallest of
+  //    morph, frames and (compact only) basis. Quantized files are for importers without a meshopt
+  //    decoder, Blender's above all, whose importer clamps shape-key values to [0, 1]: basis
+  //    weights are any real, so Blender plays only the morph layout right.
   std::string glb_layout = "auto";
   // .glb basis layout only: sequence frames where the motion's low-rank structure restarts (a
   // stream's segment starts, which `dmc decode` passes): each begins a new block of targets.

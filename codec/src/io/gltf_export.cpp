@@ -14,7 +14,7 @@
 //  - frames: one mesh per frame under one parent node; a STEP scale animation shows each frame's
 //    node (scale 1) during its frame interval and hides it (scale 0) otherwise. Costs a few hundred
 //    bytes of JSON per frame instead of the weights.
-// kAuto builds those the encoding allows and keeps the smallest file.
+// kAuto builds morph and frames (and basis, for compact files) and keeps the smallest file.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -329,7 +329,10 @@ StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence, GlbLayout
   DMC_ASSIGN_OR_RETURN(auto frames,
                        Serialize(FramesModel(sequence, frame_rate, encoding), encoding));
   if (frames.size() < best.size()) best = std::move(frames);
-  if (quantized) {
+  // Only compact files consider the basis layout: quantized ones are for importers without a
+  // meshopt decoder, Blender's above all, which clamps shape-key values to [0, 1] (see
+  // EncodeSceneGlb).
+  if (encoding == GlbEncoding::kCompact) {
     DMC_ASSIGN_OR_RETURN(auto basis,
                          Serialize(BasisModel(sequence, frame_rate, block_starts), encoding));
     if (basis.size() < best.size()) best = std::move(basis);

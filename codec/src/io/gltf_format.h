@@ -168,8 +168,8 @@ StatusOr<std::vector<uint8_t>> EncodeGlb(const MeshSequence& sequence,
 
 // The GLB of a decoded sequence within its scene record (gltf_scene_export.cpp): the record's
 // nodes, materials, textures, kept attributes and node animations, the sequence's motion as morph
-// targets in `layout` (kBasis or kMorph; kAuto: kBasis compact, kMorph float, the smaller of the
-// two quantized), each clip (or only the
+// targets in `layout` (kBasis or kMorph; kAuto: kBasis compact, kMorph otherwise), each clip (or
+// only the
 // one named `clip`) as an animation. `block_starts` (sequence frames, e.g. a stream's segment
 // starts) begin new blocks of the basis layout, as every clip does. kParseError when the record
 // does not fit the sequence, kInvalidArgument for an unknown clip or a layout the encoding or a

@@ -667,15 +667,14 @@ StatusOr<std::vector<uint8_t>> EncodeSceneGlb(const MeshSequence& sequence,
     return SerializeGlb(model);
   };
 
-  if (layout != GlbLayout::kAuto) return write(layout, std::move(record_model));
-  if (encoding == GlbEncoding::kCompact) return write(GlbLayout::kBasis, std::move(record_model));
-  if (encoding == GlbEncoding::kFloat) return write(GlbLayout::kMorph, std::move(record_model));
-  // Without meshopt a basis target's two zero channels cost their bytes, and the morph layout is
-  // often the smaller file (CesiumMan, Fox, Horse; not RobotExpressive): the smaller one.
-  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> basis, write(GlbLayout::kBasis, record_model));
-  DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> morph,
-                       write(GlbLayout::kMorph, std::move(record_model)));
-  return basis.size() < morph.size() ? std::move(basis) : std::move(morph);
+  // Auto: basis in the compact files (three.js), morph otherwise. The quantized encoding is for
+  // importers without a meshopt decoder, Blender's above all, whose glTF importer (3.4) clamps
+  // shape-key values to [0, 1]: the morph layout's weights are 0 or 1, the basis layout's are
+  // any real (−0.8 … 2.3 on CesiumMan).
+  if (layout == GlbLayout::kAuto) {
+    layout = encoding == GlbEncoding::kCompact ? GlbLayout::kBasis : GlbLayout::kMorph;
+  }
+  return write(layout, std::move(record_model));
 }
 
 }  // namespace dmc::io_internal
