@@ -65,12 +65,17 @@ async function main() {
     gltf.scene.updateMatrixWorld(true);
     renderer.render(scene, camera);
     let vertex = null;
+    const vertices = [];
     if (morphed) {
-      // What three.js draws: the vertex with its morph targets applied, in world space.
-      vertex = morphed.localToWorld(morphed.getVertexPosition(0, new THREE.Vector3())).toArray();
+      // What three.js draws: a vertex with its morph targets applied, in world space.
+      const at = (i) => morphed.localToWorld(morphed.getVertexPosition(i, new THREE.Vector3())).toArray();
+      vertex = at(0);
+      const count = morphed.geometry.attributes.position.count;
+      for (let i = 0; i < count; i += Math.max(1, Math.floor(count / 64))) vertices.push(at(i));
     }
-    return { time, vertex, picture: checksum(canvas) };
+    return { time, vertex, vertices, picture: checksum(canvas) };
   });
+  state.size = size;
   state.ready = true;
 }
 

@@ -1,8 +1,10 @@
 // Headless check that three.js plays dmc's GLB output: serves gltf_player.html with each GLB named
 // on the command line, and checks in Debian's chromium (via playwright-core) that GLTFLoader loads
 // it without error, that it has the expected clips, that the first clip's morph targets move a
-// vertex and change the picture between its start and its middle.
-// Usage: node gltf_player_test.mjs DIR NAME.glb:CLIPS [NAME.glb:CLIPS ...]   (files under DIR)
+// vertex and change the picture between its start and its middle, and, for NAME.glb:CLIPS:REF.glb,
+// that what three.js draws of NAME (sampled vertices at the first clip's start, middle and end)
+// is within 1e-4 of the scene's size of what it draws of REF (the same stream in float32).
+// Usage: node gltf_player_test.mjs DIR NAME.glb:CLIPS[:REF.glb] ...   (files under DIR)
 import { chromium } from 'playwright-core';
 import { createServer } from 'node:http';
 import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
@@ -41,6 +43,7 @@ try {
            '--disable-background-networking', '--disable-component-update', '--disable-sync',
            '--enable-unsafe-swiftshader'],
   });
+  const states = new Map();
   for (const item of cases) {
     const [file, clips] = item.split(':');
     const page = await context.newPage();
@@ -62,7 +65,23 @@ try {
     check(moved, `${file}: the first clip moves vertex 0 (${JSON.stringify(start.vertex)} -> ${JSON.stringify(middle.vertex)})`);
     check(start.picture.lit > 0.001, `${file}: the mesh is drawn (${(100 * start.picture.lit).toFixed(2)} % lit)`);
     check(start.picture.sum !== middle.picture.sum, `${file}: the picture changes as the clip plays`);
+    states.set(file, state);
     await page.close();
+  }
+  for (const item of cases) {
+    const [file, , reference] = item.split(':');
+    if (!reference) continue;
+    const a = states.get(file), b = states.get(reference);
+    if (!a || !b) {
+      check(false, `${file} against ${reference}: both loaded`);
+      continue;
+    }
+    let worst = 0;
+    a.samples.forEach((sample, s) => sample.vertices.forEach((v, i) => {
+      worst = Math.max(worst, Math.hypot(...v.map((x, c) => x - b.samples[s].vertices[i][c])));
+    }));
+    check(a.samples[0].vertices.length > 0 && worst <= 1e-4 * b.size,
+          `${file} against ${reference}: drawn vertices within ${(worst / b.size).toExponential(2)} of the scene's size`);
   }
 } finally {
   await context?.close();

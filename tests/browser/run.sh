@@ -117,8 +117,12 @@ case "$mode" in
         name=$(basename "$sample" .glb)
         "$dmc" encode "$shared/$sample" -o "$data/$name.dmc" >/dev/null
         "$dmc" decode "$data/$name.dmc" -o "$data/$name.glb" >/dev/null
+        "$dmc" decode "$data/$name.dmc" -o "$data/$name-float.glb" --float >/dev/null
+        "$dmc" decode "$data/$name.dmc" -o "$data/$name-morph.glb" --glb-layout morph >/dev/null
         clips=$("$dmc" info "$data/$name.dmc" --json | node -e 'let s="";process.stdin.on("data",d=>s+=d).on("end",()=>console.log(JSON.parse(s).clips.length))')
-        cases+=("$name.glb:$clips")
+        # The default (basis) and the morph layout, each against the float32 file.
+        cases+=("$name-float.glb:$clips" "$name.glb:$clips:$name-float.glb"
+                "$name-morph.glb:$clips:$name-float.glb")
       fi
     done
     (cd "$work" && node gltf_player_test.mjs "$data" "${cases[@]}")

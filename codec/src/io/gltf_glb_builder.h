@@ -244,7 +244,9 @@ inline constexpr FitTolerance kBasisNormalTolerance{0.5 * 32767.0 / 127.0, 4.0 *
 using WeightTable = std::vector<std::vector<float>>;
 
 // The basis layout's targets of one primitive, vertices [first, first + count) of those fitted:
-// the position targets (int16 in grid units), then the normal targets (normalised int16).
+// the position targets (int16 in grid units), then the normal targets (normalised int8). Each
+// target has both attributes, the other one zero (one shared accessor): three.js's GLTFLoader
+// fills a target's missing attribute with the base mesh's, which it then adds as a displacement.
 inline void AddBasisTargets(ModelBuilder& builder, const std::vector<BlockTarget>& positions,
                             const std::vector<BlockTarget>& normals, size_t first, size_t count,
                             tinygltf::Primitive& primitive) {
@@ -259,14 +261,21 @@ inline void AddBasisTargets(ModelBuilder& builder, const std::vector<BlockTarget
     }
     return out;
   };
+  const int zero_normal =
+      builder.AddPaddedVec3(std::vector<int8_t>(3 * count, 0), /*normalized=*/true);
   for (const BlockTarget& t : positions) {
     primitive.targets.push_back(
-        {{"POSITION", builder.AddPaddedVec3(slice(t.target), /*normalized=*/false)}});
+        {{"POSITION", builder.AddPaddedVec3(slice(t.target), /*normalized=*/false)},
+         {"NORMAL", zero_normal}});
   }
+  if (normals.empty()) return;
+  const int zero_position =
+      builder.AddPaddedVec3(std::vector<int16_t>(3 * count, 0), /*normalized=*/false);
   for (const BlockTarget& t : normals) {
     const std::vector<int16_t> wide = slice(t.target);  // within int8 (kBasisNormalTolerance)
     primitive.targets.push_back(
-        {{"NORMAL", builder.AddPaddedVec3(std::vector<int8_t>(wide.begin(), wide.end()),
+        {{"POSITION", zero_position},
+         {"NORMAL", builder.AddPaddedVec3(std::vector<int8_t>(wide.begin(), wide.end()),
                                           /*normalized=*/true)}});
   }
 }
