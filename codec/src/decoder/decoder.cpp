@@ -1,8 +1,5 @@
 #include "dmc/decoder.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
-
 #include <algorithm>
 #include <fstream>
 #include <iterator>
@@ -13,6 +10,7 @@
 #include "bitstream/format.h"
 #include "bitstream/syntax.h"
 #include "core/allocation_guard.h"
+#include "core/parallel.h"
 #include "decoder/basis_reader.h"
 #include "decoder/connectivity_decoder.h"
 #include "decoder/segment_reconstruction.h"
@@ -291,7 +289,7 @@ Status Decoder::DecodeSegmentIntoImpl(int index, const FrameDestination& destina
   // the solve, so such a stream costs no output memory (allocation_bound_test).
   Status residuals;
   std::optional<StatusOr<AnchoredLaplacianSolver>> solver;
-  tbb::parallel_invoke(
+  core_internal::ParallelInvoke(
       [&] {
         residuals = syntax::ReadResiduals(payload(5), topology, vertex_order_, syntax)
                         .WithContext(where + "residuals");
@@ -356,8 +354,9 @@ StatusOr<MeshSequence> DecodeWhole(std::span<const uint8_t> stream, const Decode
   };
   // Segments are independent: decode them in parallel into their own frame ranges.
   std::vector<Status> statuses(decoder.segment_count());
-  tbb::parallel_for(0, decoder.segment_count(),
-                    [&](int s) { statuses[s] = decoder.DecodeSegmentInto(s, destination); });
+  core_internal::ParallelFor(0, decoder.segment_count(), [&](int s) {
+    statuses[s] = decoder.DecodeSegmentInto(s, destination);
+  });
   for (const Status& status : statuses) DMC_RETURN_IF_ERROR(status);
   if (!sequence) sequence.emplace(info.vertex_count, decoder.triangles(), info.frame_count);
   sequence->name = info.name;

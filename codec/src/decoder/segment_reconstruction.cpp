@@ -1,8 +1,5 @@
 #include "decoder/segment_reconstruction.h"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -10,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "decoder/synthesis_kernel.h"
 #include "dmc/operator_traits.h"
 
@@ -81,8 +79,8 @@ Status SynthesizeFrames(const Eigen::VectorXd& mean, const Eigen::MatrixXd& basi
     std::vector<double> sums;          // kSynthesisVertexGroup × stride
     std::vector<double> coefficients;  // the group's coefficient rows, kSynthesisVertexGroup × r
   };
-  tbb::enumerable_thread_specific<Scratch> scratches;
-  tbb::parallel_for(Eigen::Index{0}, block_count, [&](Eigen::Index block) {
+  core_internal::PerThread<Scratch> scratches;
+  core_internal::ParallelFor(Eigen::Index{0}, block_count, [&](Eigen::Index block) {
     const Eigen::Index begin = block * kBlockRows;
     const Eigen::Index end = std::min(v_count, begin + kBlockRows);
     Scratch& scratch = scratches.local();

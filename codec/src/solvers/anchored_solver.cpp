@@ -1,7 +1,5 @@
 // Normal equations of a Laplacian with anchors: N = LᵀL + w²PᵀP, factored once, solved for all
 // columns of the differential coordinates at once.
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parallel.h"
 #include "dmc/sparse_solvers.h"
 
 namespace dmc {
@@ -42,8 +41,8 @@ SparseMatrixD NormalMatrixWithDiagonal(const SparseMatrixD& laplacian,
     std::vector<double> values;
     std::vector<int> rows;
   };
-  tbb::enumerable_thread_specific<Scratch> scratches;
-  tbb::parallel_for(Eigen::Index{0}, chunk_count, [&](Eigen::Index c) {
+  core_internal::PerThread<Scratch> scratches;
+  core_internal::ParallelFor(Eigen::Index{0}, chunk_count, [&](Eigen::Index c) {
     Scratch& scratch = scratches.local();
     scratch.touched.resize(static_cast<size_t>(n), 0);
     scratch.values.resize(static_cast<size_t>(n));
@@ -103,7 +102,7 @@ SparseMatrixD NormalMatrixWithDiagonal(const SparseMatrixD& laplacian,
     chunk_offsets[static_cast<size_t>(c) + 1] =
         chunk_offsets[static_cast<size_t>(c)] + static_cast<Eigen::Index>(chunk.rows.size());
   }
-  tbb::parallel_for(Eigen::Index{0}, chunk_count, [&](Eigen::Index c) {
+  core_internal::ParallelFor(Eigen::Index{0}, chunk_count, [&](Eigen::Index c) {
     const Chunk& chunk = chunks[static_cast<size_t>(c)];
     const Eigen::Index offset = chunk_offsets[static_cast<size_t>(c)];
     std::copy(chunk.rows.begin(), chunk.rows.end(), normal.innerIndexPtr() + offset);
@@ -222,8 +221,8 @@ Status AnchoredLaplacianSolver::SolveInPlace(Eigen::MatrixXd& delta_to_solution,
   // Lᵀ·Δ column by column, the columns in parallel, each through one column of scratch: Eigen's
   // sparse × dense product handles each column on its own in the same order, so this is bit for
   // bit the one-shot product.
-  tbb::enumerable_thread_specific<Eigen::VectorXd> scratch{Eigen::VectorXd(v_count)};
-  tbb::parallel_for(Eigen::Index{0}, x.cols(), [&](Eigen::Index column) {
+  core_internal::PerThread<Eigen::VectorXd> scratch{Eigen::VectorXd(v_count)};
+  core_internal::ParallelFor(Eigen::Index{0}, x.cols(), [&](Eigen::Index column) {
     Eigen::VectorXd& product = scratch.local();
     product.noalias() = laplacian_transpose_ * x.col(column);
     x.col(column) = product;

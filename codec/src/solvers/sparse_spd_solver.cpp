@@ -6,9 +6,14 @@
 //  1. the factorisation must report success and every pivot must be positive;
 //  2. smallest/largest pivot ≥ min_pivot_ratio (a cheap 1/cond estimate);
 //  3. every solve's result must be finite with a small relative residual.
-#include <tbb/parallel_for.h>
 
+#ifndef DMC_WITH_CHOLMOD
+#define DMC_WITH_CHOLMOD 1
+#endif
+
+#if DMC_WITH_CHOLMOD
 #include <Eigen/CholmodSupport>
+#endif
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -19,12 +24,14 @@
 #include <variant>
 #include <vector>
 
+#include "core/parallel.h"
 #include "dmc/sparse_solvers.h"
 #include "solvers/blas_threads.h"
 
 namespace dmc {
 namespace {
 
+#if DMC_WITH_CHOLMOD
 // Eigen's CHOLMOD wrapper keeps the factor protected; the pivot ratio needs it, and
 // cholmod_rcond is exactly the estimate we want ((min/max diag of L)² for LLᵀ).
 class CholmodLlt : public Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lower> {
@@ -40,6 +47,7 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lowe
   // cholmod_common (the wrapper's own common is not safe to share between threads).
   cholmod_factor* factor() const { return m_cholmodFactor; }
 };
+#endif
 
 // Right-hand sides are solved in blocks of this many columns, the blocks in parallel (and each
 // block's residual checked in the same task). Bit-identical to one solve of all columns as long
@@ -54,6 +62,7 @@ class CholmodLlt : public Eigen::CholmodSupernodalLLT<SparseMatrixD, Eigen::Lowe
 // on the thread count: the blocks are fixed. Fewer than 2 blocks: no task overhead.
 constexpr Eigen::Index kSolveBlockColumns = 16;
 
+#if DMC_WITH_CHOLMOD
 // One CHOLMOD solve of N·X = B for the columns [first, first + count) of `rhs`, written into the
 // same columns of `solution` (which may be `rhs` itself: CHOLMOD reads B whole before returning X
 // in its own buffer); false when CHOLMOD fails (out of memory).
@@ -113,6 +122,7 @@ void AnalyzePattern(CholmodLlt& cholmod, const SparseMatrixD& matrix, int orderi
   if (ordering == CHOLMOD_METIS) lock.lock();
   cholmod.analyzePattern(matrix);
 }
+#endif
 
 using EigenLdlt = Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>>;
 
@@ -145,8 +155,10 @@ struct SparseSpdSolver::Impl {
   SparseMatrixD matrix;  // kept for the residual check of every solve
   SolverOptions options;
   SolverBackend backend = SolverBackend::kCholmod;
+#if DMC_WITH_CHOLMOD
   // CHOLMOD's wrapper is neither copyable nor movable: hold it by pointer.
   std::unique_ptr<CholmodLlt> cholmod;
+#endif
   std::unique_ptr<EigenLdlt> ldlt;
   double pivot_ratio = 0.0;
 };
@@ -183,11 +195,18 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
   impl->matrix.makeCompressed();
   impl->options = options;
   // kAuto: CHOLMOD (supernodal LLᵀ), faster than SimplicialLDLT from 10k unknowns on
-  // (tests/bench/bench_operators.cpp measures both).
+  // (tests/bench/bench_operators.cpp measures both); SimplicialLDLT in a build without CHOLMOD.
+  const std::string what = "factoring the " + SizeText(matrix) + " normal matrix";
+#if DMC_WITH_CHOLMOD
   impl->backend =
       options.backend == SolverBackend::kAuto ? SolverBackend::kCholmod : options.backend;
-
-  const std::string what = "factoring the " + SizeText(matrix) + " normal matrix";
+#else
+  if (options.backend == SolverBackend::kCholmod) {
+    return UnsupportedError(what + ": this build has no CHOLMOD (DMC_WITH_CHOLMOD=OFF)");
+  }
+  impl->backend = SolverBackend::kSimplicialLdlt;
+#endif
+#if DMC_WITH_CHOLMOD
   if (impl->backend == SolverBackend::kCholmod) {
     ScopedSingleThreadedBlas single_threaded_blas;
     ScopedSerialOpenMp serial_open_mp;
@@ -218,7 +237,9 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
       return NumericalFailureError(what + ": not positive definite (CHOLMOD)");
     }
     impl->pivot_ratio = impl->cholmod->PivotRatio();
-  } else {
+  } else
+#endif
+  {
     impl->ldlt = std::make_unique<EigenLdlt>();
     impl->ldlt->compute(impl->matrix);
     if (impl->ldlt->info() != Eigen::Success) {
@@ -258,7 +279,7 @@ Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
   const Eigen::Index spacing = impl_->options.residual_check_spacing;
   Eigen::MatrixXd sampled_rhs(x.rows(), (columns + spacing - 1) / spacing);
   for (Eigen::Index s = 0; s < sampled_rhs.cols(); ++s) sampled_rhs.col(s) = x.col(s * spacing);
-  if (!impl_->cholmod) {
+  if (impl_->backend != SolverBackend::kCholmod) {
     Eigen::MatrixXd solved = impl_->ldlt->solve(x);
     x = std::move(solved);
   }
@@ -276,12 +297,14 @@ Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
     const Eigen::Index first = block * kSolveBlockColumns;
     const Eigen::Index count = std::min(kSolveBlockColumns, columns - first);
     BlockCheck& check = checks[static_cast<size_t>(block)];
-    if (impl_->cholmod) {
+#if DMC_WITH_CHOLMOD
+    if (impl_->backend == SolverBackend::kCholmod) {
       ScopedSingleThreadedBlas single_threaded_blas;
       ScopedSerialOpenMp serial_open_mp;
       check.solved = SolveColumnBlock(impl_->cholmod->factor(), x, first, count, x);
       if (!check.solved) return;
     }
+#endif
     const auto block_solution = x.middleCols(first, count);
     check.finite = block_solution.allFinite();
     if (!check.finite) return;
@@ -300,7 +323,7 @@ Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
   if (block_count == 1) {
     process_block(0);
   } else {
-    tbb::parallel_for(Eigen::Index{0}, block_count, process_block);
+    core_internal::ParallelFor(Eigen::Index{0}, block_count, process_block);
   }
   double residual_squared = 0.0, rhs_squared = 0.0;
   for (const BlockCheck& check : checks) {
