@@ -15,6 +15,7 @@ packages=(
   clang-format-14 ccache                    # tools/test.sh's formatting check; compiler cache
   python3-clang-14                          # libclang's parser for tools/check-sizes.py
   chromium                                  # the viewer's headless browser test (node and npm ship with the machine)
+  emscripten node-acorn                     # the WebAssembly decoder (web/build.sh; acorn for emcc's JS optimiser)
 )
 
 missing=()
