@@ -3,11 +3,13 @@
 #   run.sh validate BUILD_DIR SHARED_DATA_DIR   Khronos glTF validator on dmc's GLB exports
 #   run.sh viewer   BUILD_DIR SHARED_DATA_DIR   headless chromium against `dmc view`
 #   run.sh player   BUILD_DIR SHARED_DATA_DIR   three.js's GLTFLoader playing dmc's GLB output
+#   run.sh loader   BUILD_DIR SHARED_DATA_DIR   web/DMCLoader.js playing a .dmc in three.js (needs
+#                                               emscripten for web/build.sh)
 # npm packages come from the committed package-lock.json files through `npm ci` into BUILD_DIR
 # (never into the source tree). Exits 77 (ctest: skipped) when node/npm or chromium is missing or
 # the npm registry cannot be reached.
 set -euo pipefail
-mode=${1:?usage: run.sh validate|viewer|player BUILD_DIR SHARED_DATA_DIR}
+mode=${1:?usage: run.sh validate|viewer|player|loader BUILD_DIR SHARED_DATA_DIR}
 build=$(cd "${2:?build dir}" && pwd)
 shared=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -126,6 +128,26 @@ case "$mode" in
       fi
     done
     (cd "$work" && node gltf_player_test.mjs "$data" "${cases[@]}")
+    ;;
+  loader)
+    # web/DMCLoader.js with the WebAssembly decoder, in headless chromium, in both modes.
+    [ -x /usr/bin/chromium ] || skip "/usr/bin/chromium not installed"
+    command -v emcmake >/dev/null || skip "emscripten not installed (web/build.sh)"
+    "$source_dir/tools/viewer/build.sh" "$build/bin/viewer" >/dev/null \
+      || skip "viewer build failed (npm registry unreachable?)"
+    "$source_dir/web/build.sh" "$build/web" >/dev/null
+    npm_dir="$build/bin/viewer-npm"  # three.js and esbuild, installed by the viewer's build
+    rm -rf "$npm_dir/src/package" && cp -r "$build/web/package" "$npm_dir/src/package"
+    cp "$here/dmc_loader_page.js" "$npm_dir/src/dmc_loader_page.js"
+    (cd "$npm_dir" && ./node_modules/.bin/esbuild src/dmc_loader_page.js --bundle --format=esm --external:node:* \
+       --log-level=warning --outfile="$data/dmc_loader.bundle.js")
+    cp "$build/web/package/dmc_decoder.wasm" "$here/dmc_loader.html" "$data/"
+    cases=("cloth.dmc:morph" "cloth.dmc:buffer")
+    if [ -n "$shared" ] && [ -f "$shared/cesium-man/CesiumMan.glb" ]; then
+      "$dmc" encode "$shared/cesium-man/CesiumMan.glb" -o "$data/CesiumMan.dmc" >/dev/null
+      cases+=("CesiumMan.dmc:morph" "CesiumMan.dmc:buffer")
+    fi
+    (cd "$work" && node dmc_loader_test.mjs "$data" "${cases[@]}")
     ;;
   *) echo "unknown mode $mode"; exit 2 ;;
 esac
