@@ -43,6 +43,7 @@ emcmake cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DDMC_WEB_DEPS="
 cmake --build "$build" -j"$(nproc)"
 # The npm package, assembled in BUILD_DIR/package (never in the source tree).
 mkdir -p "$build/package"
-cp "$here/package.json" "$here/dmc.js" "$here/DMCLoader.js" "$build/dmc_decoder.js" "$build/dmc_decoder.wasm" \
+cp "$here/package.json" "$here/dmc.js" "$here/DMCLoader.js" "$here/dmc_worker.js" \
+  "$build/dmc_decoder.js" "$build/dmc_decoder.wasm" \
   "$build/package/"
 ls -l "$build/package"

@@ -3,6 +3,7 @@
 //   import { createDecoder } from 'dmc-decoder';
 //   const decoder = await createDecoder();
 //   const info = decoder.info(bytes);            // counts, frame rate, segments
+//   const indices = decoder.triangles(bytes);    // Uint32Array, without decoding the frames
 //   const clip = decoder.decode(bytes);          // { vertexCount, frameCount, frameRate, indices,
 //                                                //   positions(frame) -> Float32Array, ... }
 //   for (const s of decoder.segments(bytes)) {}  // segment by segment: { firstFrame, frameCount,
@@ -69,6 +70,16 @@ export class Decoder {
     const stream = new Stream(this.module, bytes, limits);
     try {
       return stream.info;
+    } finally {
+      stream.close();
+    }
+  }
+
+  // The triangles (three vertex indices each), without decoding the segments.
+  triangles(bytes, limits) {
+    const stream = new Stream(this.module, bytes, limits);
+    try {
+      return stream.triangles();
     } finally {
       stream.close();
     }

@@ -69,6 +69,27 @@ async function main() {
     }
     return { frame, drawn, expected, picture: checksum(canvas) };
   });
+  // The same stream decoded in a module Web Worker (web/dmc_worker.js), segment by segment.
+  state.worker = await new Promise((resolve) => {
+    const worker = new Worker('./package/dmc_worker.js', { type: 'module' });
+    const result = { segments: 0, equal: true, frames: 0 };
+    worker.onerror = (event) => resolve({ error: String(event.message ?? event) });
+    worker.onmessage = ({ data }) => {
+      if (data.error) resolve({ error: `${data.error.code}: ${data.error.message}` });
+      else if (data.info) result.triangles = data.indices.length / 3;
+      else if (data.done) { worker.terminate(); resolve(result); }
+      else {
+        ++result.segments;
+        const size = 3 * info.vertexCount;
+        for (let k = 0; k < data.frameCount; ++k) {
+          const expected = decoded.positions(data.firstFrame + k);
+          for (let i = 0; i < size; ++i) if (data.positions[k * size + i] !== expected[i]) result.equal = false;
+          ++result.frames;
+        }
+      }
+    };
+    worker.postMessage({ id: 1, bytes: bytes.slice().buffer }, []);
+  });
   state.ready = true;
 }
 

@@ -57,6 +57,10 @@ try {
     check(Math.max(...errors) <= 1e-6,
           `${file} (${mode}): drawn frames ${state.samples.map((s) => s.frame).join(', ')} within ` +
           `${errors.map((e) => e.toExponential(2)).join(', ')} of the mesh's size of the decoded ones`);
+    const w = state.worker;
+    check(!w.error && w.equal && w.frames === state.info.frameCount,
+          `${file} (${mode}): a Web Worker decodes the same ${w.frames} frames in ${w.segments} segment(s)` +
+          (w.error ? ` (${w.error})` : ''));
     const [start, middle] = state.samples;
     check(start.picture.lit > 0.001, `${file} (${mode}): the mesh is drawn (${(100 * start.picture.lit).toFixed(2)} % lit)`);
     check(start.picture.sum !== middle.picture.sum, `${file} (${mode}): the picture changes as the clip plays`);

@@ -142,6 +142,7 @@ case "$mode" in
     (cd "$npm_dir" && ./node_modules/.bin/esbuild src/dmc_loader_page.js --bundle --format=esm --external:node:* \
        --log-level=warning --outfile="$data/dmc_loader.bundle.js")
     cp "$build/web/package/dmc_decoder.wasm" "$here/dmc_loader.html" "$data/"
+    rm -rf "$data/package" && cp -r "$build/web/package" "$data/package"  # the worker's modules
     cases=("cloth.dmc:morph" "cloth.dmc:buffer")
     if [ -n "$shared" ] && [ -f "$shared/cesium-man/CesiumMan.glb" ]; then
       "$dmc" encode "$shared/cesium-man/CesiumMan.glb" -o "$data/CesiumMan.dmc" >/dev/null
