@@ -33,6 +33,7 @@ QuantizedFit Quantize(const Eigen::MatrixXd& displacements, const Eigen::MatrixX
   Eigen::Index kept = 0;
   for (Eigen::Index k = 0; k < directions.cols(); ++k) {
     const double largest = directions.col(k).cwiseAbs().maxCoeff();
+    if (!(largest > 0)) continue;  // a direction the block does not move along
     const double floor = largest / tolerance.largest_value;
     if (step > floor) fit.at_floor = false;
     const double target_step = std::max(step, floor);
@@ -164,7 +165,8 @@ std::vector<AxisTarget> FitAxisTargets(const Eigen::MatrixXd& displacements, int
     double step = 0.5 * tolerance.rms *
                   std::sqrt(12.0 * static_cast<double>(m) /
                             static_cast<double>(std::max<Eigen::Index>(rank, 1)));
-    for (;;) {
+    // Halving from any start reaches the int16 floor well within 64 steps.
+    for (int halvings = 0; halvings < 64; ++halvings) {
       fit = Quantize(displacements, directions, step, tolerance);
       if (fit.within || fit.at_floor) break;
       step *= 0.5;
