@@ -76,6 +76,10 @@ try {
     await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
   };
   await setFrame(0);
+  const source = await page.evaluate(() => ({ source: window.dmcViewer.source, ms: window.dmcViewer.decodeMs }));
+  if (process.env.DMC_EXPECT_WASM === '1') {
+    check(source.source === 'wasm', `the page decoded the stream with the WebAssembly decoder (${source.source}, ${source.ms?.toFixed(0)} ms)`);
+  }
   const frames = await page.evaluate(() => window.dmcViewer.frames);
   check(frames > 1, `the sequence has ${frames} frames`);
   const original0 = await inspect('original');

@@ -223,9 +223,27 @@ int RunView(const ViewArgs& args) {
         std::string(name).ends_with(".js") ? "text/javascript" : "text/html; charset=utf-8",
         std::move(text).value()};
   }
-  auto decoded_glb = ToGlb(*decoded, scratch, "decoded");
-  if (!decoded_glb.ok()) return ReportError("view", decoded_glb.status(), args.json);
-  files["/data/decoded.glb"] = {"model/gltf-binary", std::move(decoded_glb).value()};
+  // The WebAssembly decoder, when the viewer was built with it (tools/viewer/build.sh copies web/'s
+  // package into wasm/): the page then decodes the stream itself, else it reads decoded.glb.
+  bool in_page = true;
+  for (const char* name : {"dmc.js", "dmc_decoder.js", "dmc_decoder.wasm"}) {
+    in_page = in_page && std::filesystem::is_regular_file(*viewer_dir / "wasm" / name, error);
+  }
+  if (in_page) {
+    for (const char* name : {"dmc.js", "dmc_decoder.js", "dmc_decoder.wasm"}) {
+      auto body = ReadText(*viewer_dir / "wasm" / name);
+      if (!body.ok()) return ReportError("view", body.status(), args.json);
+      files[std::string("/wasm/") + name] = {
+          std::string(name).ends_with(".js") ? "text/javascript" : "application/wasm",
+          std::move(body).value()};
+    }
+    files["/data/stream.dmc"] = {"application/octet-stream",
+                                 std::string(bytes->begin(), bytes->end())};
+  } else {
+    auto decoded_glb = ToGlb(*decoded, scratch, "decoded");
+    if (!decoded_glb.ok()) return ReportError("view", decoded_glb.status(), args.json);
+    files["/data/decoded.glb"] = {"model/gltf-binary", std::move(decoded_glb).value()};
+  }
   const double bpfv = 8.0 * static_cast<double>(bytes->size()) /
                       (static_cast<double>(decoded->frame_count()) * decoded->vertex_count());
   nlohmann::json metrics = {{"input", std::filesystem::path(args.input).filename().string()},
@@ -234,7 +252,8 @@ int RunView(const ViewArgs& args) {
                             {"frames", decoded->frame_count()},
                             {"vertices", decoded->vertex_count()},
                             {"frame_rate", decoded->frame_rate > 0 ? decoded->frame_rate : 30.0},
-                            {"original", nullptr}};
+                            {"original", nullptr},
+                            {"stream", in_page ? nlohmann::json("data/stream.dmc") : nullptr}};
   if (original) {
     auto original_glb = ToGlb(*original, scratch, "original");
     if (!original_glb.ok()) return ReportError("view", original_glb.status(), args.json);

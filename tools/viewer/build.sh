@@ -20,4 +20,14 @@ fi
 (cd "$work" && ./node_modules/.bin/esbuild src/main.js --bundle --minify --format=esm \
    --log-level=warning --outfile="$out/viewer.js")
 cp "$here/index.html" "$out/index.html"
-echo "viewer built in $out"
+# The WebAssembly decoder (web/build.sh), when WEB_PACKAGE (default: <build>/web/package beside
+# OUTDIR's parent) holds it: dmc view then has the page decode the stream.
+web_package=${WEB_PACKAGE:-"$out/../../web/package"}
+rm -rf "$out/wasm"
+if [ -f "$web_package/dmc_decoder.wasm" ]; then
+  mkdir -p "$out/wasm"
+  cp "$web_package/dmc.js" "$web_package/dmc_decoder.js" "$web_package/dmc_decoder.wasm" "$out/wasm/"
+  echo "viewer built in $out, with the WebAssembly decoder"
+else
+  echo "viewer built in $out (no WebAssembly decoder: build it with web/build.sh)"
+fi

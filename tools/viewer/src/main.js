@@ -18,6 +18,18 @@ const stats = document.getElementById('stats');
 const viewer = { ready: false, frame: 0, frames: 0, renderedFrame: -1, playing: true };
 window.dmcViewer = viewer;
 
+// The stream decoded in the page by the WebAssembly decoder (web/, served under wasm/ by dmc view).
+async function loadStream(url) {
+  const module = new URL('wasm/dmc.js', location.href).href;  // not bundled: loaded as served
+  const { createDecoder } = await import(module);
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+  const clip = (await createDecoder()).decode(new Uint8Array(await response.arrayBuffer()));
+  const positions = [];
+  for (let f = 0; f < clip.frameCount; ++f) positions.push(Float32Array.from(clip.positions(f)));
+  return { vertexCount: clip.vertexCount, index: clip.indices, positions };
+}
+
 async function loadGlb(url) {
   const response = await fetch(url);
   if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
@@ -73,7 +85,10 @@ function resize(view) {
 
 async function main() {
   const metrics = await (await fetch('data/metrics.json')).json();
-  const decoded = await loadGlb('data/decoded.glb');
+  const started = performance.now();
+  const decoded = metrics.stream ? await loadStream(metrics.stream) : await loadGlb('data/decoded.glb');
+  viewer.source = metrics.stream ? 'wasm' : 'glb';
+  viewer.decodeMs = performance.now() - started;
   const original = metrics.original ? await loadGlb('data/original.glb') : null;
   if (original && (original.vertexCount !== decoded.vertexCount ||
                    original.positions.length !== decoded.positions.length)) {
