@@ -126,6 +126,58 @@ void AnalyzePattern(CholmodLlt& cholmod, const SparseMatrixD& matrix, int orderi
 
 using EigenLdlt = Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>>;
 
+// SimplicialLDLT's solve (P·B, L⁻¹, D⁻¹, L⁻ᵀ, P⁻¹), every right-hand side at once: the same
+// operations in the same order on each column as Eigen's solve, so the result is bit for bit
+// ldlt.solve(x), but each factor entry is read once for all columns, which sit side by side in a
+// row-major copy (Eigen walks the whole factor once per column). The WebAssembly decoder's solve
+// stage for the 10k-vertex crane at rank 60 went from 83 to 46 ms (web/test/bench_draco.mjs).
+void SolveLdltAllColumns(const EigenLdlt& ldlt, Eigen::MatrixXd& x) {
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const SparseMatrixD& factor = ldlt.matrixL().nestedExpression();  // unit lower, column-major
+  const Eigen::Index n = x.rows(), width = x.cols();
+  RowMajorMatrix y = ldlt.permutationP() * x;
+  const int* outer = factor.outerIndexPtr();
+  const int* inner = factor.innerIndexPtr();
+  const double* values = factor.valuePtr();
+  // L·Z = Y by columns of L: row i loses L(i, j)·z_j. Eigen skips a column's entry whose z_j is
+  // zero; the select does the same, lane by lane (it only decides the sign of a zero), in rows
+  // that hold a zero (the plain loop is 12 % faster).
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double* z = y.data() + j * width;
+    const bool has_zero = std::find(z, z + width, 0.0) != z + width;
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      const Eigen::Index i = inner[p];
+      if (i <= j) continue;
+      const double entry = values[p];
+      double* row = y.data() + i * width;
+      if (has_zero) {
+        for (Eigen::Index c = 0; c < width; ++c)
+          row[c] = z[c] != 0.0 ? row[c] - z[c] * entry : row[c];
+      } else {
+        for (Eigen::Index c = 0; c < width; ++c) row[c] -= z[c] * entry;
+      }
+    }
+  }
+  // D⁻¹ as Eigen applies it: a product with the inverted pivots.
+  const Eigen::VectorXd inverse_pivots = ldlt.vectorD().cwiseInverse();
+  for (Eigen::Index i = 0; i < n; ++i) y.row(i) *= inverse_pivots[i];
+  // Lᵀ·W = Z by rows of Lᵀ (columns of L), from the last: w_i = z_i − Σ L(k, i)·w_k.
+  std::vector<double> sum(static_cast<size_t>(width));
+  for (Eigen::Index i = n - 1; i >= 0; --i) {
+    double* row = y.data() + i * width;
+    std::copy_n(row, width, sum.data());
+    for (int p = outer[i]; p < outer[i + 1]; ++p) {
+      const Eigen::Index k = inner[p];
+      if (k <= i) continue;
+      const double entry = values[p];
+      const double* w = y.data() + k * width;
+      for (Eigen::Index c = 0; c < width; ++c) sum[c] -= entry * w[c];
+    }
+    std::copy_n(sum.data(), width, row);
+  }
+  x = ldlt.permutationPinv() * y;
+}
+
 // "1.23e-15": std::to_string prints fixed-point, which shows tiny ratios as 0.000000.
 std::string Scientific(double value) {
   char text[32];
@@ -279,10 +331,7 @@ Status SparseSpdSolver::SolveInPlace(Eigen::MatrixXd& rhs_to_solution) const {
   const Eigen::Index spacing = impl_->options.residual_check_spacing;
   Eigen::MatrixXd sampled_rhs(x.rows(), (columns + spacing - 1) / spacing);
   for (Eigen::Index s = 0; s < sampled_rhs.cols(); ++s) sampled_rhs.col(s) = x.col(s * spacing);
-  if (impl_->backend != SolverBackend::kCholmod) {
-    Eigen::MatrixXd solved = impl_->ldlt->solve(x);
-    x = std::move(solved);
-  }
+  if (impl_->backend != SolverBackend::kCholmod) SolveLdltAllColumns(*impl_->ldlt, x);
 
   // Per block: solve (CHOLMOD), then the residual ‖N·x − b‖² and ‖b‖² of the block's sampled
   // columns, summed below in block order so the check does not depend on the thread count.

@@ -2,6 +2,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/SparseCholesky>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -85,6 +86,36 @@ TEST_P(SolverBackends, SolveInPlaceAndSampledResidualCheckKeepTheBits) {
   sampled_options.residual_check_spacing = 0;
   EXPECT_EQ(SparseSpdSolver::Factor(normal, sampled_options).status().code(),
             ErrorCode::kInvalidArgument);
+}
+
+// The simplicial backend solves all columns at once in its own loop; it must give the bits of
+// Eigen's SimplicialLDLT::solve column by column, zeros in the right-hand side included (Eigen
+// skips those in the forward substitution, which can only change the sign of a zero).
+TEST(SparseSpdSolver, SimplicialSolveOfAllColumnsMatchesEigenBitForBit) {
+  const MeshSequence sphere = testing::Icosphere(3);
+  const MeshTopology topo = BuildTopology(sphere.triangles(), sphere.vertex_count());
+  const auto cotan = BuildCotanSym(topo, sphere.frame_d(0));
+  ASSERT_TRUE(cotan.ok());
+  const SparseMatrixD normal = BuildNormalMatrix(cotan->matrix, std::vector<int32_t>{0, 200});
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::NullaryExpr(
+      topo.vertex_count, 9,
+      [](Eigen::Index r, Eigen::Index c) { return std::sin(0.07 * r * (c + 1)) - 0.3 * c; });
+  rhs.col(2).setZero();
+  rhs.block(0, 4, topo.vertex_count / 2, 2).setZero();
+  rhs(5, 7) = -0.0;
+  SolverOptions options;
+  options.backend = SolverBackend::kSimplicialLdlt;
+  const auto solver = SparseSpdSolver::Factor(normal, options);
+  ASSERT_TRUE(solver.ok()) << solver.status().ToString();
+  const auto solved = solver->Solve(rhs);
+  ASSERT_TRUE(solved.ok()) << solved.status().ToString();
+  Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>> eigen(normal);
+  ASSERT_EQ(eigen.info(), Eigen::Success);
+  for (Eigen::Index c = 0; c < rhs.cols(); ++c) {
+    const Eigen::VectorXd expected = eigen.solve(rhs.col(c));
+    EXPECT_EQ(std::memcmp(expected.data(), solved->col(c).data(), sizeof(double) * rhs.rows()), 0)
+        << "column " << c;
+  }
 }
 
 TEST_P(SolverBackends, RejectsASingularNormalMatrixInsteadOfReturningGarbage) {
