@@ -132,7 +132,8 @@ class LabelKernel {
   uint64_t total_ = 0;            // sum of bins_
   std::vector<uint64_t> weight_;  // per label, scratch (zero outside Build's candidates)
   std::vector<int32_t> candidates_;
-  std::vector<uint64_t> prefix_;  // prefix_[i] = sum of the first i candidates' weights
+  std::vector<int32_t> sorted_centers_;  // scratch of Build
+  std::vector<uint64_t> prefix_;         // prefix_[i] = sum of the first i candidates' weights
 };
 
 // Kinds of prediction; each has its own adaptive contexts.
