@@ -1,7 +1,7 @@
 // Headless check of the dmc viewer served by `dmc view`: Debian's chromium driven by
 // playwright-core loads the page, waits for the first rendered frame, checks that both canvases
 // show something other than the background, that the slider changes the frame (and the picture),
-// and saves a screenshot.
+// that stepping, wireframe, the colour scale and the timeline work, and saves a screenshot.
 // Usage: node viewer_test.mjs URL SCREENSHOT.png
 import { chromium } from 'playwright-core';
 import { mkdtempSync, rmSync } from 'node:fs';
@@ -55,13 +55,15 @@ try {
     const context2d = copy.getContext('2d');
     context2d.drawImage(canvas, 0, 0);
     const { data } = context2d.getImageData(0, 0, copy.width, copy.height);
-    let differing = 0, checksum = 0;
+    let differing = 0, painted = 0, checksum = 0;
     for (let i = 0; i < data.length; i += 4) {
+      if (data[i + 3] > 0) ++painted;
       const distance = Math.abs(data[i] - 48) + Math.abs(data[i + 1] - 51) + Math.abs(data[i + 2] - 56);
       if (distance > 24) ++differing;
       checksum = (checksum * 31 + data[i] + 7 * data[i + 1] + 13 * data[i + 2]) >>> 0;
     }
-    return { width: canvas.width, height: canvas.height, covered: differing / (data.length / 4), checksum };
+    const pixels = data.length / 4;
+    return { width: canvas.width, height: canvas.height, covered: differing / pixels, painted: painted / pixels, checksum };
   }, id);
 
   // Pause, go to frame 0, let it render.
@@ -100,6 +102,69 @@ try {
   const statsText = await page.evaluate(() => document.getElementById('stats').textContent);
   check(/bpfv/.test(statsText) && /KG contribution/.test(statsText) && /STED/.test(statsText),
         'frame KG/STED and bpfv are shown');
+
+  // Single-frame stepping: the buttons and the arrow keys, wrapping at the ends.
+  const frameShown = async (f) => {
+    await page.waitForFunction((frame) => window.dmcViewer.renderedFrame === frame, f, { timeout: 10000 });
+    return page.evaluate(() => window.dmcViewer.frame);
+  };
+  await page.click('#next');
+  check(await frameShown(0) === 0, 'next on the last frame wraps to frame 0');
+  await page.click('#next');
+  check(await frameShown(1) === 1, 'next steps to frame 1');
+  await page.click('#previous');
+  check(await frameShown(0) === 0, 'previous steps back to frame 0');
+  await page.focus('#slider');
+  await page.evaluate(() => document.activeElement.blur());
+  await page.keyboard.press('ArrowRight');
+  check(await frameShown(1) === 1, 'the right arrow key steps to frame 1');
+  await page.keyboard.press('ArrowLeft');
+  check(await frameShown(0) === 0, 'the left arrow key steps back to frame 0');
+  check(await page.evaluate(() => window.dmcViewer.playing) === false, 'stepping keeps playback paused');
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  const stepped0 = await inspect('decoded');
+
+  // Wireframe: the picture changes, and comes back when it is switched off.
+  await page.click('#wireframe');
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  const wire = await inspect('decoded');
+  check(await page.evaluate(() => window.dmcViewer.wireframe) && wire.checksum !== stepped0.checksum,
+        `wireframe changes the picture (${(100 * wire.covered).toFixed(2)}% covered)`);
+  await page.click('#wireframe');
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  check((await inspect('decoded')).checksum === stepped0.checksum, 'switching wireframe off restores the picture');
+
+  // Colour scale: a percentile is at most the largest error, and each mode recolours the mesh.
+  const scaleOf = () => page.evaluate(() => ({ mode: window.dmcViewer.scaleMode, scale: window.dmcViewer.scale,
+                                                legend: document.getElementById('legend-max').textContent }));
+  const p99 = await scaleOf();
+  check(p99.mode === '99' && p99.scale > 0, `the default scale is the 99th percentile (${p99.legend})`);
+  await page.selectOption('#scale-mode', 'max');
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  const largest = await scaleOf();
+  const maxPicture = await inspect('decoded');
+  check(largest.scale >= p99.scale && maxPicture.checksum !== stepped0.checksum,
+        `the largest-error scale (${largest.legend}) is at least the 99th percentile and recolours the mesh`);
+  await page.fill('#scale-value', '0.05');
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  const manual = await scaleOf();
+  check(manual.mode === 'manual' && Math.abs(manual.scale - 0.0005) < 1e-12 && /^0\.0500%/.test(manual.legend),
+        `a typed value fixes the scale (${manual.legend})`);
+  await page.selectOption('#scale-mode', '99');
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  check((await inspect('decoded')).checksum === stepped0.checksum, 'back to the 99th percentile gives the first picture');
+
+  // Timeline: drawn, and a click at three quarters of its width goes to that frame.
+  const timeline = await inspect('timeline');
+  // Its 2D canvas is transparent where nothing is drawn: curves, labels and cursor paint a little.
+  check(timeline.width > 0 && timeline.painted > 0.005 && timeline.painted < 0.5,
+        `the timeline is drawn (${(100 * timeline.painted).toFixed(2)}% painted)`);
+  const box = await page.locator('#timeline').boundingBox();
+  await page.mouse.click(box.x + 0.75 * box.width, box.y + box.height / 2);
+  const expected = Math.round(0.75 * (frames - 1));
+  const seeked = await page.evaluate(() => window.dmcViewer.frame);
+  check(Math.abs(seeked - expected) <= 1, `a click on the timeline goes to frame ${seeked} (expected about ${expected})`);
+  await frameShown(seeked);
 
   await page.screenshot({ path: screenshot });
   console.log(`screenshot: ${screenshot}`);

@@ -65,3 +65,22 @@ export function errorColour(errors, scale, out) {
     for (let c = 0; c < 3; ++c) out[3 * v + c] = STOPS[k][c] + s * (STOPS[k + 1][c] - STOPS[k][c]);
   }
 }
+
+// The colour scale of a mode: 'max' is the largest error of the sequence; a number p (e.g. 99)
+// the p-th percentile of every vertex's error in every frame, so that a few outliers do not turn
+// the rest of the mesh blue. Sequences of more than 4M vertex-frames are sampled evenly.
+export function errorScale(errors, mode) {
+  if (mode === 'max') return errors.scale;
+  const p = Number(mode);
+  if (!(p > 0 && p <= 100)) throw new Error(`colour scale ${mode}: not 'max' or a percentile`);
+  const total = errors.perFrame.reduce((sum, frame) => sum + frame.length, 0);
+  const stride = Math.max(1, Math.ceil(total / 4e6));
+  const values = new Float32Array(Math.ceil(total / stride));
+  let n = 0, k = 0;
+  for (const frame of errors.perFrame) {
+    for (let v = 0; v < frame.length; ++v, ++k) if (k % stride === 0) values[n++] = frame[v];
+  }
+  const sample = values.subarray(0, n).sort();
+  const value = sample[Math.min(n - 1, Math.max(0, Math.ceil((p / 100) * n) - 1))];
+  return value > 0 ? value : errors.scale;
+}

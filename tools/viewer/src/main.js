@@ -2,20 +2,29 @@
 // coloured by per-vertex error. Data comes from the page's server (dmc view): data/metrics.json,
 // data/decoded.glb and, when an original was given, data/original.glb. The GLBs are dmc exports
 // (asset.extras.dmc.layout "morph" or "frames"); frames are read back from the file's buffers and
-// shown directly, so both sides always show the same frame index.
+// shown directly, so both sides always show the same frame index. Under the views: frame stepping,
+// wireframe, the colour scale (largest error, a percentile, or a fixed value) and the per-frame
+// KG/STED timeline.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
-import { extractFrames, vertexErrors, errorColour } from './frames.js';
+import { extractFrames, vertexErrors, errorColour, errorScale } from './frames.js';
+import { Timeline } from './timeline.js';
 
 const status = document.getElementById('status');
 const slider = document.getElementById('slider');
 const playButton = document.getElementById('play');
 const frameLabel = document.getElementById('frame-label');
 const stats = document.getElementById('stats');
+const wireframeBox = document.getElementById('wireframe');
+const scaleMode = document.getElementById('scale-mode');
+const scaleValue = document.getElementById('scale-value');
 
 // State the browser test reads (window.dmcViewer) as well as the page.
-const viewer = { ready: false, frame: 0, frames: 0, renderedFrame: -1, playing: true };
+const viewer = {
+  ready: false, frame: 0, frames: 0, renderedFrame: -1, playing: true, wireframe: false,
+  scaleMode: scaleMode.value, scale: 0, // the colour scale, as a fraction of the diagonal
+};
 window.dmcViewer = viewer;
 
 // The stream decoded in the page by the WebAssembly decoder (web/, served under wasm/ by dmc view).
@@ -59,7 +68,7 @@ function makeView(canvas, frames, colours) {
   scene.add(new THREE.Mesh(geometry, material));
   const camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
   const controls = new OrbitControls(camera, canvas);
-  return { renderer, scene, geometry, camera, controls, canvas, frames };
+  return { renderer, scene, geometry, material, camera, controls, canvas, frames };
 }
 
 function frameCamera(view, box) {
@@ -122,8 +131,30 @@ async function main() {
   slider.max = String(frameCount - 1);
   document.getElementById('title').textContent =
     `${metrics.input}: ${metrics.frames} frames × ${metrics.vertices} vertices`;
-  document.getElementById('legend-max').textContent = errors
-    ? `${(100 * errors.scale).toPrecision(3)}% of the bounding-box diagonal` : '(no original)';
+  const legend = document.getElementById('legend-max');
+  const timeline = new Timeline(document.getElementById('timeline'), metrics.distortion?.frames ?? null,
+                                frameCount);
+  // The colour scale from the chosen mode; a fixed value is in % of the diagonal.
+  const applyScale = () => {
+    viewer.scaleMode = scaleMode.value;
+    scaleValue.disabled = !errors;  // it shows the scale in use; typing in it fixes the scale
+    if (!errors) {
+      legend.textContent = '(no original)';
+      return;
+    }
+    if (scaleMode.value === 'manual') {
+      const percent = Number(scaleValue.value);
+      if (!(percent > 0)) return;  // keep the last scale until the field holds a positive number
+      viewer.scale = percent / 100;
+    } else {
+      viewer.scale = errorScale(errors, scaleMode.value);
+      scaleValue.value = (100 * viewer.scale).toPrecision(3);
+    }
+    const clipped = viewer.scale < errors.scale ? ` (largest ${(100 * errors.scale).toPrecision(3)}%)` : '';
+    legend.textContent = `${(100 * viewer.scale).toPrecision(3)}% of the bounding-box diagonal${clipped}`;
+  };
+  if (!errors) scaleMode.disabled = true;
+  applyScale();
 
   const showFrame = (f) => {
     viewer.frame = f;
@@ -139,9 +170,10 @@ async function main() {
     }
     if (errors) {
       const colour = decodedView.geometry.getAttribute('color');
-      errorColour(errors.perFrame[f], errors.scale, colour.array);
+      errorColour(errors.perFrame[f], viewer.scale, colour.array);
       colour.needsUpdate = true;
     }
+    timeline.draw(f);
     const lines = [`file: ${metrics.bytes} bytes, ${metrics.bpfv.toFixed(3)} bpfv`];
     const distortion = metrics.distortion;
     if (distortion) {
@@ -154,9 +186,62 @@ async function main() {
   };
 
   slider.addEventListener('input', () => { showFrame(Number(slider.value)); });
-  playButton.addEventListener('click', () => {
-    viewer.playing = !viewer.playing;
-    playButton.textContent = viewer.playing ? 'pause' : 'play';
+  const setPlaying = (playing) => {
+    viewer.playing = playing;
+    playButton.textContent = playing ? 'pause' : 'play';
+  };
+  playButton.addEventListener('click', () => setPlaying(!viewer.playing));
+  // Stepping pauses, and wraps around at either end.
+  const step = (delta) => {
+    setPlaying(false);
+    showFrame((viewer.frame + delta + frameCount) % frameCount);
+  };
+  document.getElementById('previous').addEventListener('click', () => step(-1));
+  document.getElementById('next').addEventListener('click', () => step(1));
+  const setWireframe = (on) => {
+    viewer.wireframe = on;
+    wireframeBox.checked = on;
+    for (const view of views) {
+      view.material.wireframe = on;
+      view.material.needsUpdate = true;
+    }
+  };
+  wireframeBox.addEventListener('change', () => setWireframe(wireframeBox.checked));
+  const recolour = () => {
+    applyScale();
+    showFrame(viewer.frame);
+  };
+  scaleMode.addEventListener('change', recolour);
+  scaleValue.addEventListener('input', () => {
+    scaleMode.value = 'manual';
+    recolour();
+  });
+  document.addEventListener('keydown', (event) => {
+    const target = event.target;
+    // Fields keep their own keys (typing a scale, the slider's arrows, space on the checkbox).
+    if (target instanceof HTMLInputElement && (target.type !== 'checkbox' || event.key === ' ')) return;
+    if (target instanceof HTMLSelectElement) return;
+    if (target instanceof HTMLButtonElement && (event.key === ' ' || event.key === 'Enter')) return;
+    if (event.key === 'ArrowLeft') step(-1);
+    else if (event.key === 'ArrowRight') step(1);
+    else if (event.key === ' ') setPlaying(!viewer.playing);
+    else if (event.key === 'w') setWireframe(!viewer.wireframe);
+    else return;
+    event.preventDefault();
+  });
+  window.addEventListener('resize', () => timeline.draw(viewer.frame));
+  // Clicking or dragging on the timeline goes to that frame.
+  const timelineCanvas = document.getElementById('timeline');
+  const seek = (event) => {
+    setPlaying(false);
+    showFrame(timeline.frameAt(event.clientX));
+  };
+  timelineCanvas.addEventListener('pointerdown', (event) => {
+    timelineCanvas.setPointerCapture(event.pointerId);
+    seek(event);
+  });
+  timelineCanvas.addEventListener('pointermove', (event) => {
+    if (timelineCanvas.hasPointerCapture(event.pointerId)) seek(event);
   });
 
   const frameRate = metrics.frame_rate > 0 ? metrics.frame_rate : 30;
