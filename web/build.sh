@@ -43,7 +43,8 @@ emcmake cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DDMC_WEB_DEPS="
 cmake --build "$build" -j"$(nproc)"
 # The npm package, assembled in BUILD_DIR/package (never in the source tree).
 mkdir -p "$build/package"
-cp "$here/package.json" "$here/dmc.js" "$here/DMCLoader.js" "$here/dmc_worker.js" \
+cp "$here/package.json" "$here/dmc.js" "$here/dmc.d.ts" "$here/DMCLoader.js" "$here/DMCLoader.d.ts" \
+  "$here/dmc_worker.js" \
   "$build/dmc_decoder.js" "$build/dmc_decoder.wasm" \
   "$build/package/"
 ls -l "$build/package"

@@ -5,11 +5,13 @@
 #   run.sh player   BUILD_DIR SHARED_DATA_DIR   three.js's GLTFLoader playing dmc's GLB output
 #   run.sh loader   BUILD_DIR SHARED_DATA_DIR   web/DMCLoader.js playing a .dmc in three.js (needs
 #                                               emscripten for web/build.sh)
+#   run.sh types    BUILD_DIR                   tsc --strict on web/test/types_check.ts against the
+#                                               package's .d.ts files and @types/three
 # npm packages come from the committed package-lock.json files through `npm ci` into BUILD_DIR
 # (never into the source tree). Exits 77 (ctest: skipped) when node/npm or chromium is missing or
 # the npm registry cannot be reached.
 set -euo pipefail
-mode=${1:?usage: run.sh validate|viewer|player|loader BUILD_DIR SHARED_DATA_DIR}
+mode=${1:?usage: run.sh validate|viewer|player|loader|types BUILD_DIR SHARED_DATA_DIR}
 build=$(cd "${2:?build dir}" && pwd)
 shared=${3:-}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -26,6 +28,22 @@ cp "$here/package.json" "$here/package-lock.json" "$here"/*.mjs "$work/"
 if ! cmp -s "$here/package-lock.json" "$work/node_modules/.dmc-lock" 2>/dev/null; then
   (cd "$work" && npm ci --no-audit --no-fund --loglevel=error) || skip "npm ci failed (registry unreachable?)"
   cp "$here/package-lock.json" "$work/node_modules/.dmc-lock"
+fi
+
+if [ "$mode" = types ]; then
+  # The declarations beside a file that uses them, as in the package; three's types from the
+  # lock file's @types/three (found in $work/node_modules).
+  types="$work/types"
+  rm -rf "$types" && mkdir -p "$types"
+  cp "$source_dir/web/dmc.d.ts" "$source_dir/web/DMCLoader.d.ts" "$source_dir/web/test/types_check.ts" "$types/"
+  cat >"$types/tsconfig.json" <<'JSON'
+{ "compilerOptions": { "strict": true, "noEmit": true, "target": "es2022", "module": "es2022",
+                       "moduleResolution": "bundler", "lib": ["es2022", "dom"], "types": [] },
+  "files": ["types_check.ts"] }
+JSON
+  (cd "$types" && "$work/node_modules/.bin/tsc" -p tsconfig.json)
+  echo "types_check.ts compiles against dmc.d.ts and DMCLoader.d.ts"
+  exit 0
 fi
 
 # A small synthetic animation, encoded and decoded: the files under test.
