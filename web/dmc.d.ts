@@ -64,7 +64,12 @@ export interface DecodedSequence {
 
 export type StreamBytes = Uint8Array | ArrayBuffer | ArrayBufferView;
 
+/**
+ * A trap of the WebAssembly module (out of its memory) is thrown as DmcError "resource-limit";
+ * the decoder then refuses every call with "internal" and `trapped` holds the abort's message.
+ */
 export class Decoder {
+  readonly trapped: string | null;
   info(bytes: StreamBytes, limits?: DecoderLimits): StreamInfo;
   triangles(bytes: StreamBytes, limits?: DecoderLimits): Uint32Array;
   /** Segment by segment: the first frames are there before the last segment is decoded. */

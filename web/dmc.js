@@ -11,6 +11,10 @@
 //
 // Errors are DmcError exceptions whose `code` is the spec's error code name
 // (bitstream-spec/dmc-format.md §11.1: "corrupt-stream", "truncated-stream", "unsupported", ...).
+// The module is built without C++ exceptions, so running out of its 4 GB memory aborts it (a
+// WebAssembly trap): that surfaces as DmcError "resource-limit", and the decoder, whose memory may
+// be left inconsistent, refuses every later call with "internal" (create a new one). The decoder
+// limits (below) refuse the streams that declare too much before anything is allocated.
 // The module is single-threaded; decode in a Worker to keep a page responsive.
 import createDmcModule from './dmc_decoder.js';
 
@@ -60,46 +64,76 @@ function lastError(module) {
                       module.UTF8ToString(module._dmc_last_error_message()));
 }
 
+// Runs `body` on the decoder's module, turning a trap into a DmcError and retiring the module.
+function guarded(decoder, body) {
+  if (decoder.trapped) {
+    throw new DmcError('internal', `this decoder aborted earlier (${decoder.trapped}); create a new one`);
+  }
+  try {
+    return body();
+  } catch (error) {
+    if (error instanceof WebAssembly.RuntimeError) {
+      decoder.trapped ??= String(error.message);
+      throw new DmcError('resource-limit', `the WebAssembly decoder aborted (out of memory?): ${decoder.trapped}`);
+    }
+    if (error instanceof RangeError && /allocat|length/i.test(error.message)) {  // a typed array
+      throw new DmcError('resource-limit', `out of JavaScript memory: ${error.message}`);
+    }
+    throw error;
+  }
+}
+
 export class Decoder {
-  constructor(module) { this.module = module; }
+  constructor(module) {
+    this.module = module;
+    this.trapped = null;  // the abort's message once the module has trapped
+  }
 
   // The stream's description without decoding its segments. `limits` (every method):
   // { maxOutputBytes, maxMatrixBytes }, as the native DecoderOptions (default 4 GiB each, 0: no
   // limit): a stream declaring more is refused with "resource-limit" before anything is built.
   info(bytes, limits) {
-    const stream = new Stream(this.module, bytes, limits);
-    try {
-      return stream.info;
-    } finally {
-      stream.close();
-    }
+    return guarded(this, () => {
+      const stream = new Stream(this.module, bytes, limits);
+      try {
+        return stream.info;
+      } finally {
+        stream.close();
+      }
+    });
   }
 
   // The triangles (three vertex indices each), without decoding the segments.
   triangles(bytes, limits) {
-    const stream = new Stream(this.module, bytes, limits);
-    try {
-      return stream.triangles();
-    } finally {
-      stream.close();
-    }
+    return guarded(this, () => {
+      const stream = new Stream(this.module, bytes, limits);
+      try {
+        return stream.triangles();
+      } finally {
+        stream.close();
+      }
+    });
   }
 
   // Every segment in turn (the first frames are there before the last segment is decoded).
   * segments(bytes, limits) {
-    const stream = new Stream(this.module, bytes, limits);
+    const stream = guarded(this, () => new Stream(this.module, bytes, limits));
     try {
       for (let s = 0; s < stream.info.segments.length; ++s) {
         const { firstFrame, frameCount } = stream.info.segments[s];
-        yield { index: s, firstFrame, frameCount, positions: stream.segment(s) };
+        yield { index: s, firstFrame, frameCount, positions: guarded(this, () => stream.segment(s)) };
       }
     } finally {
-      stream.close();
+      if (!this.trapped) stream.close();  // an aborted module cannot free anything
     }
   }
 
   // The whole sequence.
   decode(bytes, limits) {
+    return guarded(this, () => this.#decodeAll(bytes, limits));
+  }
+
+  #decodeAll(bytes, limits) {
     const stream = new Stream(this.module, bytes, limits);
     try {
       const { vertexCount, frameCount, frameRate, name, segments } = stream.info;

@@ -5,15 +5,17 @@
 // It answers, per request id: { id, info, indices } first, then { id, segment, firstFrame,
 // frameCount, positions } per segment in order (positions: a Float32Array whose buffer is
 // transferred), then { id, done: true }; or { id, error: { code, message } } (DmcError's code, or
-// "trap").
+// "trap" for any other exception). After the module aborts (out of memory) the next request gets
+// a new one.
 import { createDecoder, DmcError } from './dmc.js';
 
-const decoder = createDecoder();
+let decoder = createDecoder();
 
 self.onmessage = async ({ data }) => {
   const { id, bytes, limits } = data;
+  let dmc = null;
   try {
-    const dmc = await decoder;
+    dmc = await decoder;
     const view = bytes instanceof ArrayBuffer ? new Uint8Array(bytes) : bytes;
     self.postMessage({ id, info: dmc.info(view, limits), indices: dmc.triangles(view, limits) });
     for (const s of dmc.segments(view, limits)) {
@@ -22,6 +24,7 @@ self.onmessage = async ({ data }) => {
     }
     self.postMessage({ id, done: true });
   } catch (error) {
+    if (dmc?.trapped) decoder = createDecoder();  // an aborted module is not used again
     const code = error instanceof DmcError ? error.code : 'trap';
     self.postMessage({ id, error: { code, message: String(error?.message ?? error) } });
   }

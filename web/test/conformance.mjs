@@ -20,16 +20,18 @@ const fail = (what) => { ++failures; console.log(`FAILED: ${what}`); };
 const manifests = (kind) => readdirSync(join(vectorsDir, kind)).filter((f) => f.endsWith('.json')).sort()
   .map((f) => ({ name: f.replace(/\.json$/, ''), ...JSON.parse(readFileSync(join(vectorsDir, kind, f), 'utf8')) }));
 
-// A decode that must either work or fail with a DmcError; anything else is a failure, and the
-// module is rebuilt after it (a trapped module may be left inconsistent).
+// A decode that must either work or fail with a DmcError from the decoder itself; a trap (which
+// dmc.js reports as "resource-limit" and remembers in decoder.trapped) or any other exception is a
+// failure, and the module is rebuilt after it.
 async function decodeOrError(bytes) {
   try {
     decoder.decode(bytes, noLimit);
     return 'ok';
   } catch (error) {
-    if (error instanceof DmcError) return error.code;
+    if (error instanceof DmcError && !decoder.trapped) return error.code;
+    const what = decoder.trapped ?? error;
     decoder = await createDecoder();
-    return `trap: ${error}`;
+    return `trap: ${what}`;
   }
 }
 
@@ -121,6 +123,29 @@ for (const bytes of cases) {
   }
 }
 if (traps > 5) fail(`${traps} damaged streams trapped in all`);
+
+// A trap (here injected: the module built without C++ exceptions aborts when its memory runs out)
+// is a DmcError "resource-limit", and the aborted decoder refuses later calls with "internal".
+{
+  const faulty = await createDecoder();
+  faulty.module._dmc_decode_segment = () => { throw new WebAssembly.RuntimeError('Aborted(OOM)'); };
+  const codeOf = (body) => {
+    try {
+      body();
+      return 'ok';
+    } catch (error) {
+      return error instanceof DmcError ? error.code : `not a DmcError: ${error}`;
+    }
+  };
+  const first = codeOf(() => faulty.decode(bySize[0]));
+  const later = codeOf(() => faulty.info(bySize[0]));
+  const fresh = codeOf(() => decoder.decode(bySize[0]));
+  if (first !== 'resource-limit' || later !== 'internal' || fresh !== 'ok') {
+    fail(`an injected trap: ${first}, then ${later} (expected resource-limit, internal); another decoder: ${fresh}`);
+  } else {
+    console.log('trap: reported as resource-limit, the aborted decoder then refuses with internal');
+  }
+}
 console.log(`damaged: ${damaged} streams, ${decoded} decoded, ${damaged - decoded - traps} refused ` +
             `with an error code, ${traps} traps, ${((Date.now() - started) / 1000).toFixed(1)} s`);
 process.exit(failures > 0 ? 1 : 0);
