@@ -2,14 +2,17 @@
 // FILE:MODE on the command line and checks in Debian's chromium (playwright-core) that the loader
 // works in that mode, that what three.js draws at the first, middle and last frame is that frame
 // as dmc.js decodes it (within 1e-6 of the mesh's size), and that the picture changes.
-// Usage: node dmc_loader_test.mjs DIR FILE.dmc:MODE ...   (files under DIR)
+// Usage: node dmc_loader_test.mjs DIR FILE.dmc:MODE ... [example:FILE.dmc]   (files under DIR)
 import { chromium } from 'playwright-core';
 import { createServer } from 'node:http';
 import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, extname } from 'node:path';
 
-const [root, ...cases] = process.argv.slice(2);
+// A case example:FILE.dmc plays FILE with DIR/example/index.html instead.
+const [root, ...items] = process.argv.slice(2);
+const exampleStream = items.find((item) => item.startsWith('example:'))?.slice(8);
+const cases = items.filter((item) => !item.startsWith('example:'));
 const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm' };
 const server = createServer((request, response) => {
   const name = decodeURIComponent(new URL(request.url, 'http://x').pathname).replace(/^\/+/, '');
@@ -64,6 +67,24 @@ try {
     const [start, middle] = state.samples;
     check(start.picture.lit > 0.001, `${file} (${mode}): the mesh is drawn (${(100 * start.picture.lit).toFixed(2)} % lit)`);
     check(start.picture.sum !== middle.picture.sum, `${file} (${mode}): the picture changes as the clip plays`);
+    await page.close();
+  }
+  // The README's whole page (web/example/index.html), served beside three's build and the
+  // package: it loads without an error and the animation moves on screen.
+  if (exampleStream) {
+    const page = await context.newPage();
+    const problems = [];
+    page.on('pageerror', (error) => problems.push(error.message));
+    page.on('console', (message) => { if (message.type() === 'error') problems.push(message.text()); });
+    await page.setViewportSize({ width: 480, height: 360 });
+    await page.goto(`${base}example/index.html?src=${encodeURIComponent(exampleStream)}`);
+    await page.waitForFunction(() => document.querySelector('canvas'), null, { timeout: 60000 });
+    await page.waitForTimeout(300);
+    const first = await page.screenshot();
+    await page.waitForTimeout(400);
+    const second = await page.screenshot({ path: join(root, 'example.png') });
+    check(problems.length === 0, `web/example/index.html plays ${exampleStream} without an error (${problems[0] ?? 'none'})`);
+    check(!first.equals(second), 'web/example/index.html: the picture changes as the clip plays');
     await page.close();
   }
 } finally {

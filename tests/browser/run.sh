@@ -172,6 +172,12 @@ case "$mode" in
       "$dmc" encode "$shared/cesium-man/CesiumMan.glb" -o "$data/CesiumMan.dmc" >/dev/null
       cases+=("CesiumMan.dmc:morph" "CesiumMan.dmc:buffer")
     fi
+    # The README's whole page, with three's build beside it.
+    mkdir -p "$data/example"
+    cp "$source_dir/web/example/index.html" "$npm_dir/node_modules/three/build/three.module.js" \
+      "$npm_dir/node_modules/three/build/three.core.js" "$data/example/"
+    rm -rf "$data/example/package" && cp -r "$build/web/package" "$data/example/package"
+    cases+=("example:../cloth.dmc")
     (cd "$work" && node dmc_loader_test.mjs "$data" "${cases[@]}")
     ;;
   *) echo "unknown mode $mode"; exit 2 ;;
