@@ -47,4 +47,12 @@ cp "$here/package.json" "$here/dmc.js" "$here/dmc.d.ts" "$here/DMCLoader.js" "$h
   "$here/dmc_worker.js" \
   "$build/dmc_decoder.js" "$build/dmc_decoder.wasm" \
   "$build/package/"
+# Licences: dmc's, and those of what the module compiles in (licenses/README.md).
+root=$(cd "$here/.." && pwd)
+mkdir -p "$build/package/licenses"
+cp "$root/LICENSE" "$root/NOTICE" "$build/package/"
+for component in eigen draco zstd highway xxhash; do
+  cp "$root/licenses/$component.copyright" "$build/package/licenses/"
+done
+cp /usr/share/doc/emscripten/copyright "$build/package/licenses/emscripten.copyright"
 ls -l "$build/package"
