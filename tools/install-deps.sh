@@ -6,7 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libdraco-dev libopenmesh-dev libzstd-dev libgtest-dev libgmock-dev
   libbenchmark-dev libmeshoptimizer-dev libsuitesparse-dev libtbb-dev libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev
-  libopenblas-dev  # CHOLMOD's supernodal factorisation: 30 % faster decoding than reference BLAS
+  libopenblas-dev  # the opt-in CHOLMOD backend's BLAS (-DDMC_WITH_CHOLMOD=ON; the sanitised CI stage)
   libhwy-dev       # Google Highway: the SIMD variants of frame synthesis (dmc/simd.h)
   libtinygltf-dev libspectra-dev            # glTF import/export; eigensolvers for spectral methods
   gltfpack                                  # meshopt-compressed GLB inputs for the glTF tests

@@ -176,10 +176,12 @@ RowComponents PatternComponents(const SparseMatrixD& matrix) {
 
 // Thesis 6.1.2: a symmetric Laplacian is semidefinite iff the matrix left after removing one row
 // and column per connected component admits a Cholesky factorisation. Our convention has a
-// negative diagonal, so the candidate is −L. CHOLMOD's supernodal LLᵀ with no pivot-ratio floor
-// answers exactly that question; Eigen's simplicial LLᵀ made the report of a 100k-row spacetime
-// operator (10k vertices × 10 frames) take 69 s instead of 27 s.
-bool ReducedCholeskyOk(const SparseMatrixD& matrix, const RowComponents& components) {
+// negative diagonal, so the candidate is −L. The solver's factorisation with no pivot-ratio floor
+// answers exactly that question: false when it finds a non-positive pivot, an error for anything
+// else (a resource limit, say). CHOLMOD's supernodal LLᵀ, when the build has it, is the faster
+// (Eigen's simplicial LLᵀ made the report of a 100k-row spacetime operator, 10k vertices × 10
+// frames, take 69 s instead of 27 s).
+StatusOr<bool> ReducedCholeskyOk(const SparseMatrixD& matrix, const RowComponents& components) {
   std::vector<int> kept_index(components.rows, -1);
   std::vector<char> component_seen(components.count, 0);
   int kept = 0;
@@ -202,9 +204,12 @@ bool ReducedCholeskyOk(const SparseMatrixD& matrix, const RowComponents& compone
   SparseMatrixD reduced(kept, kept);
   reduced.setFromTriplets(triplets.begin(), triplets.end());
   SolverOptions options;
-  options.backend = SolverBackend::kCholmod;
+  options.backend = SolverBackend::kAuto;
   options.min_pivot_ratio = 0.0;  // positive definite is the whole test
-  return SparseSpdSolver::Factor(reduced, options).ok();
+  const Status factored = SparseSpdSolver::Factor(reduced, options).status();
+  if (factored.code() == ErrorCode::kNumericalFailure) return false;
+  DMC_RETURN_IF_ERROR(factored);
+  return true;
 }
 
 // Anchors: the first row of every component (so N is never singular by construction), then rows
@@ -486,7 +491,11 @@ int RunLaplacian(const LaplacianArgs& args) {
       domain_report = ElementReport(*op, topology, options.bspline.depth);
       break;
   }
-  if (op->symmetric) p.cholesky_ok = ReducedCholeskyOk(reported, components);
+  if (op->symmetric) {
+    const StatusOr<bool> cholesky_ok = ReducedCholeskyOk(reported, components);
+    if (!cholesky_ok.ok()) return ReportError(kCommand, cholesky_ok.status(), args.json);
+    p.cholesky_ok = *cholesky_ok;
+  }
   ConditioningExperiment(reported, components, args, p);
 
   const OperatorStats& s = op->stats;

@@ -27,6 +27,9 @@ enum class SolverBackend : uint8_t {
   kSimplicialLdlt,  // Eigen::SimplicialLDLT (AMD ordering)
 };
 std::string_view SolverBackendName(SolverBackend backend);
+// Whether this build has the backend: kCholmod only when built with -DDMC_WITH_CHOLMOD=ON (it is
+// GPL-2.0-or-later; licenses/README.md); Factor() with an absent one is kUnsupported.
+bool SolverBackendAvailable(SolverBackend backend);
 
 // Fill-reducing ordering of the CHOLMOD backend (SimplicialLDLT always uses AMD).
 enum class SolverOrdering : uint8_t {

@@ -8,7 +8,7 @@
 //  3. every solve's result must be finite with a small relative residual.
 
 #ifndef DMC_WITH_CHOLMOD
-#define DMC_WITH_CHOLMOD 1
+#error "DMC_WITH_CHOLMOD must be 0 or 1 (the dmc_cholmod target defines it)"
 #endif
 
 #if DMC_WITH_CHOLMOD
@@ -124,7 +124,18 @@ void AnalyzePattern(CholmodLlt& cholmod, const SparseMatrixD& matrix, int orderi
 }
 #endif
 
-using EigenLdlt = Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>>;
+// Eigen's SimplicialLDLT, with the size of its factor known after the symbolic analysis: the
+// elimination tree's column counts (protected in Eigen), so that a factor too large for the
+// caller's bound is refused before any numeric work, as CHOLMOD's is.
+class EigenLdlt
+    : public Eigen::SimplicialLDLT<SparseMatrixD, Eigen::Lower, Eigen::AMDOrdering<int>> {
+ public:
+  // Strictly-lower entries of L plus the diagonal D, after analyzePattern.
+  double FactorEntries() const {
+    return static_cast<double>(m_nonZerosPerCol.cast<int64_t>().sum()) +
+           static_cast<double>(m_nonZerosPerCol.size());
+  }
+};
 
 // SimplicialLDLT's solve (P·B, L⁻¹, D⁻¹, L⁻ᵀ, P⁻¹), every right-hand side at once: the same
 // operations in the same order on each column as Eigen's solve, so the result is bit for bit
@@ -201,6 +212,10 @@ std::string_view SolverBackendName(SolverBackend backend) {
       return "simplicial-ldlt";
   }
   return "unknown";
+}
+
+bool SolverBackendAvailable(SolverBackend backend) {
+  return backend != SolverBackend::kCholmod || DMC_WITH_CHOLMOD;
 }
 
 struct SparseSpdSolver::Impl {
@@ -293,7 +308,16 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
 #endif
   {
     impl->ldlt = std::make_unique<EigenLdlt>();
-    impl->ldlt->compute(impl->matrix);
+    impl->ldlt->analyzePattern(impl->matrix);
+    // Values and row indices of L, the bound CHOLMOD's branch applies to its factor's values.
+    const double factor_bytes = (sizeof(double) + sizeof(int)) * impl->ldlt->FactorEntries();
+    if (options.max_matrix_bytes != 0 &&
+        factor_bytes > static_cast<double>(options.max_matrix_bytes)) {
+      return ResourceLimitError(
+          what + ": its factor would take " + std::to_string(static_cast<uint64_t>(factor_bytes)) +
+          " bytes, above the limit of " + std::to_string(options.max_matrix_bytes));
+    }
+    impl->ldlt->factorize(impl->matrix);
     if (impl->ldlt->info() != Eigen::Success) {
       return NumericalFailureError(what + ": zero pivot (SimplicialLDLT)");
     }

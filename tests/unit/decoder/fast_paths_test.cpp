@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#if DMC_WITH_CHOLMOD
 #include <Eigen/CholmodSupport>
+#endif
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -26,6 +28,7 @@
 namespace dmc {
 namespace {
 
+#if DMC_WITH_CHOLMOD
 // Tutte normal matrix of a 40 × 40 grid with four anchors: 1600 unknowns, enough for CHOLMOD's
 // supernodes and BLAS kernels to be involved.
 SparseMatrixD GridNormalMatrix() {
@@ -35,6 +38,7 @@ SparseMatrixD GridNormalMatrix() {
   EXPECT_TRUE(tutte.ok());
   return BuildNormalMatrix(tutte->matrix, std::vector<int32_t>{0, 39, 800, 1599});
 }
+#endif
 
 // The normal matrix as BuildNormalMatrix computed it before it was rewritten as one parallel pass.
 SparseMatrixD ReferenceNormalMatrix(const SparseMatrixD& laplacian,
@@ -96,6 +100,7 @@ TEST(DecoderFastPaths, NormalMatrixEqualsEigenProductPlusDiagonal) {
   }
 }
 
+#if DMC_WITH_CHOLMOD  // The SimplicialLDLT backend has its own test (solver_test.cpp).
 TEST(DecoderFastPaths, BlockedParallelSolveEqualsOneCholmodSolve) {
   const SparseMatrixD normal = GridNormalMatrix();
   // 45 columns: two full 16-column blocks and a partial one, as a rank-45 segment has.
@@ -136,6 +141,7 @@ TEST(DecoderFastPaths, BlockedParallelSolveEqualsOneCholmodSolve) {
   // And it is a solution.
   EXPECT_LE((normal.selfadjointView<Eigen::Lower>() * *blocked - rhs).norm(), 1e-9 * rhs.norm());
 }
+#endif  // DMC_WITH_CHOLMOD
 
 TEST(DecoderFastPaths, SynthesisEqualsBlockwiseProductPlusMean) {
   // 1000 vertices: three full 256-row blocks and a partial one; 7 frames, rank 5.

@@ -18,12 +18,42 @@ using ::testing::HasSubstr;
 
 class SolverBackends : public ::testing::TestWithParam<SolverBackend> {
  protected:
+  void SetUp() override {
+    if (!SolverBackendAvailable(GetParam())) {
+      GTEST_SKIP() << SolverBackendName(GetParam()) << " is not in this build (DMC_WITH_CHOLMOD)";
+    }
+  }
   SolverOptions Options() const {
     SolverOptions options;
     options.backend = GetParam();
     return options;
   }
 };
+
+// A build without CHOLMOD (the default: it is GPL) says so instead of quietly using another
+// backend; kAuto then factors with SimplicialLDLT.
+TEST(SparseSpdSolver, AnAbsentBackendIsUnsupported) {
+  const MeshSequence sphere = testing::Icosphere(2);
+  const MeshTopology topo = BuildTopology(sphere.triangles(), sphere.vertex_count());
+  const auto tutte = BuildTutte(topo);
+  ASSERT_TRUE(tutte.ok());
+  const SparseMatrixD normal = BuildNormalMatrix(tutte->matrix, std::vector<int32_t>{0});
+  EXPECT_TRUE(SolverBackendAvailable(SolverBackend::kAuto));
+  EXPECT_TRUE(SolverBackendAvailable(SolverBackend::kSimplicialLdlt));
+  EXPECT_EQ(SolverBackendAvailable(SolverBackend::kCholmod), DMC_WITH_CHOLMOD != 0);
+  SolverOptions options;
+  options.backend = SolverBackend::kCholmod;
+  const auto cholmod = SparseSpdSolver::Factor(normal, options);
+  if (DMC_WITH_CHOLMOD) {
+    EXPECT_TRUE(cholmod.ok()) << cholmod.status().ToString();
+  } else {
+    ASSERT_FALSE(cholmod.ok());
+    EXPECT_EQ(cholmod.status().code(), ErrorCode::kUnsupported);
+    EXPECT_THAT(cholmod.status().message(), HasSubstr("DMC_WITH_CHOLMOD=OFF"));
+  }
+  options.backend = SolverBackend::kAuto;
+  EXPECT_TRUE(SparseSpdSolver::Factor(normal, options).ok());
+}
 
 INSTANTIATE_TEST_SUITE_P(Backends, SolverBackends,
                          ::testing::Values(SolverBackend::kAuto, SolverBackend::kCholmod,
@@ -182,6 +212,9 @@ TEST(SparseSpdSolver, ConcurrentNestedDissectionFactorisationsAreBitIdentical) {
   ASSERT_TRUE(cotan.ok());
   const SparseMatrixD normal = BuildNormalMatrix(cotan->matrix, std::vector<int32_t>{0, 900});
   const Eigen::MatrixXd rhs = normal * Eigen::MatrixXd(grid.frame_d(0));
+  if (!SolverBackendAvailable(SolverBackend::kCholmod)) {
+    GTEST_SKIP() << "METIS orderings are CHOLMOD's, not in this build (DMC_WITH_CHOLMOD)";
+  }
   SolverOptions options;
   options.backend = SolverBackend::kCholmod;
   options.ordering = SolverOrdering::kMetis;
