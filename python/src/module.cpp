@@ -5,6 +5,7 @@
 
 #include "bindings.h"
 #include "dmc/simd.h"
+#include "dmc/version.h"
 #include "errors.h"
 
 PYBIND11_MODULE(dmc, module) {
@@ -20,7 +21,7 @@ methods (Laplacian processing); read_sequence, write_sequence, synth, synth_name
 simd_variants, simd_variant, set_simd_variant (the SIMD variant of frame synthesis; the DMC_SIMD
 environment variable sets it at import). Every failure raises dmc.Error, whose code is the
 pinned dmc.ErrorCode. Long calls release the GIL, so threads can run them in parallel.)";
-  module.attr("__version__") = DMC_VERSION_STRING;
+  module.attr("__version__") = dmc::LibraryVersionString();
   // Every docstring starts with a hand-written signature ("encode(frames, faces, *, ...)") that
   // names the accepted array forms; pybind11's generated one would only say "handle".
   pybind11::options options;

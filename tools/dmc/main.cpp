@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "dmc/io.h"
 #include "dmc/simd.h"
+#include "dmc/version.h"
 
 namespace {
 
@@ -99,8 +100,8 @@ int main(int argc, char** argv) try {
     for (const std::string& variant : dmc::SupportedSimdVariants()) {
       supported += (supported.empty() ? "" : ", ") + variant;
     }
-    return "dmc 0.1.0 (SIMD variant " + dmc::ActiveSimdVariant() + "; this CPU runs " + supported +
-           ")";
+    return std::string("dmc ") + dmc::LibraryVersionString() + " (SIMD variant " +
+           dmc::ActiveSimdVariant() + "; this CPU runs " + supported + ")";
   });
 
   using AddCommand = dmc::cli::Command (*)(CLI::App&);
