@@ -93,6 +93,18 @@ py::dict ReportToDict(const EncodeReport& report, const EncoderOptions& options)
   out["segments"] = report.segments;
   out["residual_step"] = report.residual_step;
   out["segment_operators"] = report.segment_operators;
+  py::list segment_details;
+  for (const EncodeReport::Segment& segment : report.segment_details) {
+    py::dict entry;
+    entry["first_frame"] = segment.first_frame;
+    entry["frames"] = segment.frames;
+    entry["operator"] = segment.operator_name;
+    entry["rank"] = segment.rank;
+    entry["anchors"] = segment.anchors;
+    entry["residual_step"] = segment.residual_step;
+    segment_details.append(entry);
+  }
+  out["segment_details"] = segment_details;
   const py::object none = py::none();
   const DistortionReport& d = report.distortion;
   out["kg"] = report.measured ? py::object(py::float_(d.kg)) : none;

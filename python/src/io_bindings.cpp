@@ -124,8 +124,10 @@ Writes a mesh sequence; coordinates are written so that reading them back is bit
 extension decides the format:
   - .pc2: a point cache plus <stem>.obj beside it (triangles and frame 0);
   - .obj/.off/.ply: one mesh file (the sequence must have exactly one frame);
-  - anything else: a directory of frame_0000.<frame_format>, ... (an existing directory is only
-    replaced when it holds nothing but frame files).
+  - .glb: a glTF animation;
+  - a path without an extension, ending in '/', or an existing directory: a directory of
+    frame_0000.<frame_format>, ... (an existing directory is only replaced when it holds nothing
+    but frame files); any other extension raises dmc.Error (INVALID_ARGUMENT).
 The write is atomic: a failure never leaves a half-written output.
 
 Args:

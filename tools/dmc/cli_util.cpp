@@ -2,13 +2,89 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 namespace dmc::cli {
+
+namespace {
+
+// Optimal string alignment distance: insertions, deletions, substitutions and transpositions of
+// neighbours each cost 1 ("--rnak" is 1 from "--rank").
+size_t EditDistance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// The candidate nearest to `word`, if it is near enough to be a typo of it (at most 2 edits, and
+// fewer than a third of the word's length rounded up).
+std::optional<std::string> Nearest(std::string_view word, const std::vector<std::string>& names) {
+  std::optional<std::string> best;
+  size_t best_distance = std::min<size_t>(2, (word.size() + 2) / 3);
+  for (const std::string& name : names) {
+    const size_t distance = EditDistance(word, name);
+    if (distance <= best_distance && (!best || distance < best_distance)) {
+      best = name;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<std::string> SuggestCorrections(const CLI::App& app, int argc,
+                                            const char* const* argv) {
+  std::vector<std::string> suggestions;
+  if (argc < 2) return suggestions;
+  const std::string command = argv[1];
+  const CLI::App* chosen = nullptr;
+  std::vector<std::string> commands;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    commands.push_back(sub->get_name());
+    if (sub->get_name() == command) chosen = sub;
+  }
+  if (!chosen) {
+    if (command.starts_with("-")) return suggestions;
+    if (const auto nearest = Nearest(command, commands)) {
+      suggestions.push_back("'" + command + "' is not a dmc command; did you mean '" + *nearest +
+                            "'?");
+    }
+    return suggestions;
+  }
+  std::vector<std::string> flags;
+  for (const CLI::Option* option : chosen->get_options()) {
+    for (const std::string& name : option->get_lnames()) flags.push_back("--" + name);
+    for (const std::string& name : option->get_fnames()) flags.push_back("--" + name);
+  }
+  for (int i = 2; i < argc; ++i) {
+    std::string word = argv[i];
+    if (!word.starts_with("--")) continue;
+    word = word.substr(0, word.find('='));
+    if (std::find(flags.begin(), flags.end(), word) != flags.end()) continue;
+    if (const auto nearest = Nearest(word, flags)) {
+      suggestions.push_back("dmc " + command + " has no option " + word + "; did you mean " +
+                            *nearest + "?");
+    }
+  }
+  return suggestions;
+}
 
 int ReportError(std::string_view command, const Status& status, bool json) {
   if (json) {

@@ -19,6 +19,11 @@ namespace dmc::cli {
 // {"error": {"code": ..., "name": ..., "message": ...}} to stdout) and returns the exit code.
 int ReportError(std::string_view command, const Status& status, bool json = false);
 
+// For a command line that CLI11 refused: "did you mean ...?" lines for each word that is not a
+// subcommand (argv[1]) or not an option of the chosen subcommand but lies within a small edit
+// distance (transpositions count 1) of one that is. Empty when there is nothing to suggest.
+std::vector<std::string> SuggestCorrections(const CLI::App& app, int argc, const char* const* argv);
+
 // Prints warnings to stderr as `dmc <command>: warning: <text>`.
 void ReportWarning(std::string_view command, std::string_view text);
 

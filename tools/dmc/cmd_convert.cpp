@@ -36,6 +36,9 @@ int RunConvert(const ConvertArgs& args) {
       !distinct.ok()) {
     return ReportError("convert", distinct, args.json);
   }
+  if (const Status path = CheckSequenceOutputPath(args.output); !path.ok()) {
+    return ReportError("convert", path, args.json);
+  }
   ReadOptions read_options;
   read_options.connectivity = args.connectivity;
   read_options.max_frames = args.max_frames;
@@ -82,9 +85,10 @@ Command AddConvertCommand(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand(
       "convert",
       "Convert a mesh sequence: OUTPUT ending in .pc2 writes a point cache plus <stem>.obj; "
-      "ending in .obj/.off/.ply writes one mesh (1-frame input); anything else a directory of "
-      "frame_NNNN files");
-  app->add_option("input", args->input,
+      "ending in .obj/.off/.ply writes one mesh (1-frame input); .glb a glTF animation; a path "
+      "without an extension (or ending in /) a directory of frame_NNNN files; any other "
+      "extension is refused");
+  app->add_option("-i,--input,input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
                   "one mesh file, a .pc2 cache, or a .glb/.gltf animation")
       ->required();

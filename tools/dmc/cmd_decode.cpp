@@ -42,6 +42,9 @@ int RunDecode(const DecodeArgs& args) {
   if (const Status distinct = RefuseOutputThatIsAnInput(args.output, args.input); !distinct.ok()) {
     return ReportError("decode", distinct, args.json);
   }
+  if (const Status path = CheckSequenceOutputPath(args.output); !path.ok()) {
+    return ReportError("decode", path, args.json);
+  }
   auto bytes = ReadFileBytes(args.input);
   if (!bytes.ok()) return ReportError("decode", bytes.status(), args.json);
   DecoderOptions options;
@@ -148,7 +151,7 @@ int RunDecode(const DecodeArgs& args) {
 Command AddDecodeCommand(CLI::App& parent) {
   auto args = std::make_shared<DecodeArgs>();
   CLI::App* app = parent.add_subcommand("decode", "Reconstruct a mesh sequence from a .dmc stream");
-  app->add_option("INPUT", args->input, "Input .dmc file")->required();
+  app->add_option("-i,--input,INPUT", args->input, "Input .dmc file")->required();
   app->add_option("-o,--output", args->output,
                   "Output: a directory of frames, a .pc2 cache, a .glb, or a single mesh file")
       ->required();

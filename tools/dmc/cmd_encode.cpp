@@ -98,8 +98,56 @@ std::string OperatorSummary(const std::string& requested,
   return requested + " (segments: " + summary + ")";
 }
 
+// What each segment's header says, as `dmc info` of the stream shows it.
+nlohmann::json SegmentDetailsJson(const EncodeReport& report) {
+  nlohmann::json segments = nlohmann::json::array();
+  for (const EncodeReport::Segment& segment : report.segment_details) {
+    segments.push_back({{"first_frame", segment.first_frame},
+                        {"frames", segment.frames},
+                        {"operator", segment.operator_name},
+                        {"rank", segment.rank},
+                        {"anchors", segment.anchors},
+                        {"residual_step", segment.residual_step}});
+  }
+  return segments;
+}
+
+// One line per segment when one was coded otherwise than the summary says (another operator, so
+// another step, or another rank); at most kListedSegments of them.
+void PrintSegmentDetails(const EncodeReport& report, const std::string& requested) {
+  constexpr size_t kListedSegments = 16;
+  const auto& segments = report.segment_details;
+  const bool uniform = std::all_of(segments.begin(), segments.end(), [&](const auto& segment) {
+    return segment.operator_name == requested && segment.rank == segments.front().rank &&
+           segment.residual_step == segments.front().residual_step;
+  });
+  if (uniform) return;
+  for (size_t s = 0; s < segments.size() && s < kListedSegments; ++s) {
+    const EncodeReport::Segment& segment = segments[s];
+    fmt::print("  segment {}, frames {}-{}: {}, rank {}, {} anchors, residual step {:.4g}\n", s,
+               segment.first_frame, segment.first_frame + segment.frames - 1, segment.operator_name,
+               segment.rank, segment.anchors, segment.residual_step);
+  }
+  if (segments.size() > kListedSegments) {
+    fmt::print("  ... {} more segments (--json lists them all)\n",
+               segments.size() - kListedSegments);
+  }
+}
+
 int RunEncode(const EncodeArgs& args) {
   const EncoderOptions& options = args.options;
+  // In the options 0 means "no target"; a target given on the command line must be one.
+  for (const auto& [name, value] : {std::pair{"target_bpfv", options.target_bpfv},
+                                    std::pair{"target_sted", options.target_sted}}) {
+    if (std::find(args.given.begin(), args.given.end(), name) != args.given.end() && value <= 0.0) {
+      return ReportError(
+          "encode",
+          InvalidArgumentError(fmt::format("{} must be > 0 (got {}); leave it out to encode at a "
+                                           "fixed step",
+                                           SpellOption(name, OptionSpelling::kCliFlag), value)),
+          args.json);
+    }
+  }
   // Checked here as well as by the encoder so that the message names the flags.
   if (const Status valid = ValidateOptions(options, OptionSpelling::kCliFlag); !valid.ok()) {
     return ReportError("encode", valid, args.json);
@@ -142,7 +190,8 @@ int RunEncode(const EncodeArgs& args) {
                           {"anchors", report.anchors},
                           {"segments", report.segments},
                           {"segment_operators", report.segment_operators},
-                          {"residual_step", report.residual_step}};
+                          {"residual_step", report.residual_step},
+                          {"segment_details", SegmentDetailsJson(report)}};
     if (report.measured) {
       out["kg"] = report.distortion.kg;
       out["sted"] = report.distortion.sted;
@@ -161,9 +210,13 @@ int RunEncode(const EncodeArgs& args) {
   const double scale = 8.0 / (static_cast<double>(report.frames) * report.vertices);
   fmt::print("{}: {} frames x {} vertices -> {} bytes, {:.4f} bpfv ({:.2f} s)\n", args.output,
              report.frames, report.vertices, report.bytes, report.bpfv, report.seconds);
+  // The step as the first segment's header has it (a kirchhoff segment's is scaled).
+  const double step = report.segment_details.empty() ? report.residual_step
+                                                     : report.segment_details.front().residual_step;
   fmt::print("  operator {}, rank {}, {} anchors, {} segment(s), residual step {:.4g}, effort {}\n",
              OperatorSummary(options.operator_name, report.segment_operators), report.rank,
-             report.anchors, report.segments, report.residual_step, options.effort);
+             report.anchors, report.segments, step, options.effort);
+  PrintSegmentDetails(report, options.operator_name);
   if (report.measured) {
     fmt::print("  KG {:.4f}  STED {:.5f} (spatial {:.5f}, temporal {:.5f})  RMSE/diag {:.3g}\n",
                report.distortion.kg, report.distortion.sted, report.distortion.sted_s,
@@ -222,7 +275,7 @@ std::vector<std::string> GivenEncoderOptions(const CLI::App& app) {
 Command AddEncodeCommand(CLI::App& parent) {
   auto args = std::make_shared<EncodeArgs>();
   CLI::App* app = parent.add_subcommand("encode", "Compress a mesh sequence to a .dmc stream");
-  app->add_option("INPUT", args->input,
+  app->add_option("-i,--input,INPUT", args->input,
                   "Sequence: frame directory, glob, mesh file, .pc2 or .glb/.gltf")
       ->required();
   app->add_option("-o,--output", args->output, "Output .dmc file")->required();

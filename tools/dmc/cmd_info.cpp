@@ -216,7 +216,7 @@ Command AddInfoCommand(CLI::App& parent) {
       "info",
       "Describe a mesh sequence: vertices, triangles, frames, edges, boundary, "
       "components, manifoldness, Euler characteristic, bounding box");
-  app->add_option("input", args->input,
+  app->add_option("-i,--input,input", args->input,
                   "A directory of .obj/.off/.ply frames, a glob such as 'dir/f_*.obj' (quoted), "
                   "one mesh file, a .pc2 cache, a .glb/.gltf animation, or a .dmc stream")
       ->required();

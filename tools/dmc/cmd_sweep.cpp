@@ -378,7 +378,7 @@ Command AddSweepCommand(CLI::App& parent) {
       "(one curve per operator) and with baseline codecs; writes DIR/rd.csv, DIR/rd_sted.svg, "
       "DIR/rd_kg.svg, DIR/summary.md and DIR/yardstick.csv (the dmc points as rows of the "
       "rate-distortion yardstick); with --baseline also DIR/baseline.md");
-  app->add_option("INPUT", args->input,
+  app->add_option("-i,--input,INPUT", args->input,
                   "Sequence: a directory of .obj/.off/.ply frames, a glob, a .pc2 cache, or a "
                   ".glb/.gltf animation")
       ->required();

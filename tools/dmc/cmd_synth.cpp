@@ -72,6 +72,9 @@ int RunSynth(const SynthArgs& args) {
   if (std::find(time_varying.begin(), time_varying.end(), args.name) != time_varying.end()) {
     return RunTimeVaryingSynth(args);
   }
+  if (const Status path = CheckSequenceOutputPath(args.output); !path.ok()) {
+    return ReportError("synth", path, args.json);
+  }
   StatusOr<MeshSequence> sequence = Synthesize(args.name, args.options);
   if (!sequence.ok()) return ReportError("synth", sequence.status(), args.json);
 
@@ -122,7 +125,9 @@ Command AddSynthCommand(CLI::App& parent) {
       "synth",
       "Generate a built-in synthetic animation (deterministic for a given seed; 30 fps). "
       "OUTPUT ending in .pc2 writes a point cache plus <stem>.obj; ending in .obj/.off/.ply one "
-      "mesh (only with --frames 1); anything else a directory of frame_NNNN files. Generators:" +
+      "mesh (only with --frames 1); .glb a glTF animation; a path without an extension (or "
+      "ending in /) a directory of frame_NNNN files; any other extension is refused. "
+      "Generators:" +
           GeneratorList());
   app->add_option("name", args->name, "Generator name (see above)")->required();
   app->add_option("-o,--output", args->output, "Output path (see above)")->required();

@@ -322,7 +322,7 @@ Command AddViewCommand(CLI::App& parent) {
   auto args = std::make_shared<ViewArgs>();
   CLI::App* app = parent.add_subcommand(
       "view", "Serve a viewer of a .dmc stream (and its original) on 127.0.0.1");
-  app->add_option("INPUT", args->input, "Input .dmc file")->required();
+  app->add_option("-i,--input,INPUT", args->input, "Input .dmc file")->required();
   app->add_option("--original", args->original,
                   "The sequence that was encoded (any input dmc reads), shown beside the decoded "
                   "one and used for the error colours and KG/STED");

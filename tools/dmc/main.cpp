@@ -120,7 +120,11 @@ int main(int argc, char** argv) try {
   } catch (const CLI::ParseError& error) {
     // --help and --version exit 0; every usage error exits 1, the code status.h reserves for it
     // (errors of the codec itself exit 10 + their ErrorCode).
-    return app.exit(error) == 0 ? 0 : 1;
+    if (app.exit(error) == 0) return 0;
+    for (const std::string& line : dmc::cli::SuggestCorrections(app, argc, argv)) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    return 1;
   }
   for (const auto& command : commands) {
     if (command.app->parsed()) return RunCommand(command);

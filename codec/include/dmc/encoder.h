@@ -151,6 +151,16 @@ struct EncodeReport {
   // The operator each segment was coded with, in segment order: the requested one, or with the
   // ddl operator's fallback (EncoderOptions::ddl_fallback) kirchhoff, tutte or mean-value.
   std::vector<std::string> segment_operators;
+  // What each segment's header says, in segment order (what `dmc info` of the stream shows).
+  struct Segment {
+    int first_frame = 0;
+    int frames = 0;
+    std::string operator_name;
+    int rank = 0;
+    int anchors = 0;
+    double residual_step = 0.0;  // as coded: a kirchhoff segment's is scaled by the mean degree
+  };
+  std::vector<Segment> segment_details;
 };
 
 StatusOr<std::vector<uint8_t>> Encode(const MeshSequence& sequence, const EncoderOptions& options,

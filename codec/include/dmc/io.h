@@ -174,14 +174,19 @@ struct WriteOptions {
 //  - .obj/.off/.ply: a single mesh file; the sequence must have exactly one frame;
 //  - .glb: a binary glTF 2.0 file playing the frames at frame_rate (30 fps when 0), with normals,
 //    stored as options.glb_encoding says;
-//  - anything else: a directory of frame_0000.<fmt>, frame_0001.<fmt>, ... (at least 4 digits,
+//  - a path without an extension, ending in a separator, or naming an existing directory: a
+//    directory of frame_0000.<fmt>, frame_0001.<fmt>, ... (at least 4 digits,
 //    more when there are 10000 frames or more). An existing directory is replaced only when it
 //    holds nothing but frame files (so a typo cannot wipe an unrelated folder).
+// Any other extension (.fbx, .usdz, ...) is kInvalidArgument, naming the accepted ones.
 // frame_rate > 0 is recorded as a "dmc frame_rate" comment so ReadSequence gets it back. The
 // output's parent directory must exist (kIoError otherwise); the output directory itself is
 // created.
 Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output,
                      const WriteOptions& options = {});
+// The check of WriteSequence's output path alone, before anything is decoded or read: Ok for
+// the kinds above, kInvalidArgument for an empty path or an unknown extension.
+Status CheckSequenceOutputPath(const std::filesystem::path& output);
 
 // The connectivity mesh of a PC2 cache when none is named (ReadOptions::connectivity empty): the
 // first of <stem>.obj, <stem>.off, <stem>.ply beside it that exists, the rule ReadSequence and

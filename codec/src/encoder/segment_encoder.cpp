@@ -445,6 +445,7 @@ SegmentResult SegmentEncoder::AppendChunks(const Segment& segment, const RankCod
   result.rank = static_cast<int>(coding.header.rank);
   result.anchors = static_cast<int>(segment.anchors.size());
   result.operator_id = static_cast<OperatorId>(coding.header.operator_id);
+  result.residual_step = coding.header.residual_step;
   auto append = [&](format::ChunkType type, const std::vector<uint8_t>& payload, uint64_t* size) {
     const size_t before = out.size();
     syntax::AppendChunk(out, type, payload);

@@ -24,6 +24,7 @@ struct SegmentResult {
   OperatorId operator_id = OperatorId::kDdl;  // what the segment was coded with
   int rank = 0;
   int anchors = 0;
+  double residual_step = 0.0;  // the segment header's, as coded (kirchhoff scales it)
 };
 
 class SegmentEncoder {

@@ -68,7 +68,8 @@ Status EncodeSegments(FrameSource& source, const ConnectivityCode& connectivity,
       failed.store(true);
       return;
     }
-    RecordSegment(*work->result, work->index, totals, &report);
+    RecordSegment(*work->result, work->index, plan.segment_first[work->index],
+                  plan.segment_frames(work->index), totals, &report);
     progress(plan.segment_first[work->index + 1]);
   };
   using WorkPtr = std::shared_ptr<SegmentWork>;

@@ -123,15 +123,19 @@ std::vector<uint8_t> StreamEnd(const StreamPlan& plan, format::ChunkSizes& total
   return out.Take();
 }
 
-void RecordSegment(const SegmentResult& segment, int index, format::ChunkSizes& totals,
-                   EncodeReport* report) {
+void RecordSegment(const SegmentResult& segment, int index, int first_frame, int frames,
+                   format::ChunkSizes& totals, EncodeReport* report) {
   if (report) {
     if (index == 0) {
       report->rank = segment.rank;
       report->anchors = segment.anchors;
       report->segment_operators.clear();
+      report->segment_details.clear();
     }
     report->segment_operators.emplace_back(CodecOperatorName(segment.operator_id));
+    report->segment_details.push_back({first_frame, frames,
+                                       std::string(CodecOperatorName(segment.operator_id)),
+                                       segment.rank, segment.anchors, segment.residual_step});
   }
   totals.header += segment.sizes.header;
   totals.mean += segment.sizes.mean;

@@ -53,10 +53,11 @@ StatusOr<std::vector<uint8_t>> ScenePayload(std::span<const uint8_t> scene);
 // totals.scene says there is one, 6 per segment).
 std::vector<uint8_t> StreamEnd(const StreamPlan& plan, format::ChunkSizes& totals);
 
-// Adds segment `index` (segments in order) to the totals and the report: its sizes, its operator,
-// and the rank and anchors rate control chose when it is the first.
-void RecordSegment(const SegmentResult& segment, int index, format::ChunkSizes& totals,
-                   EncodeReport* report);
+// Adds segment `index` (segments in order; frames [first_frame, first_frame + frames)) to the
+// totals and the report: its sizes, its header's operator, rank and step, and the rank and
+// anchors rate control chose when it is the first.
+void RecordSegment(const SegmentResult& segment, int index, int first_frame, int frames,
+                   format::ChunkSizes& totals, EncodeReport* report);
 
 // The report's rate fields (rank and anchors are the first segment's, set as it is added).
 void FillRateReport(const StreamPlan& plan, int vertex_count, uint64_t bytes,

@@ -583,8 +583,26 @@ Status WriteSequenceUnguarded(const MeshSequence& sequence,
 
 }  // namespace
 
+Status CheckSequenceOutputPath(const std::filesystem::path& output_path) {
+  if (output_path.empty()) return InvalidArgumentError("no output path given");
+  const std::filesystem::path output = WithoutTrailingSeparator(output_path);
+  const std::string extension = LowercaseExtension(output);
+  if (extension.empty() || !output_path.has_filename() || extension == ".pc2" ||
+      extension == ".glb" || io_internal::MeshFormatFromPath(output)) {
+    return Status::Ok();
+  }
+  // "out.fbx" is not silently a directory.
+  std::error_code error;
+  if (std::filesystem::is_directory(output, error)) return Status::Ok();
+  return InvalidArgumentError(
+      "cannot write " + output.string() + ": unknown output extension '" + extension +
+      "' (expected .pc2, .glb, .obj, .off or .ply; a directory of frames is a path without an "
+      "extension or ending in '/')");
+}
+
 Status WriteSequence(const MeshSequence& sequence, const std::filesystem::path& output_path,
                      const WriteOptions& options) {
+  DMC_RETURN_IF_ERROR(CheckSequenceOutputPath(output_path));
   return core_internal::GuardAllocation("writing " + output_path.string(), [&] {
     return WriteSequenceUnguarded(sequence, output_path, options);
   });
