@@ -16,6 +16,7 @@ packages=(
   python3-clang-14                          # libclang's parser for tools/check-sizes.py
   chromium                                  # the viewer's headless browser test (node and npm ship with the machine)
   emscripten node-acorn                     # the WebAssembly decoder (web/build.sh; acorn for emcc's JS optimiser)
+  dpkg-dev debootstrap                      # the .deb: dpkg-shlibdeps for its dependencies, a clean Debian 12 root to test it
 )
 
 missing=()
