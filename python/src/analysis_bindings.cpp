@@ -207,7 +207,12 @@ void RegisterAnalysis(py::module_& module) {
         options.c = sted_c;
         return MetricsBinding(original, distorted, faces, options);
       },
-      kMetricsDoc, py::arg("original"), py::arg("distorted"), py::arg("faces"), py::kw_only(),
+      WithTextSignature(
+          "metrics(original, distorted, faces, *, sted_width=" + Repr(sted_defaults.width) +
+          ", sted_dt=" + Repr(sted_defaults.dt) + ", sted_window=" + Repr(sted_defaults.window) +
+          ", sted_c=" + Repr(sted_defaults.c) + ") -> dict" + AfterFirstLine(kMetricsDoc))
+          .c_str(),
+      py::arg("original"), py::arg("distorted"), py::arg("faces"), py::kw_only(),
       py::arg("sted_width") = sted_defaults.width, py::arg("sted_dt") = sted_defaults.dt,
       py::arg("sted_window") = sted_defaults.window, py::arg("sted_c") = sted_defaults.c);
 
@@ -226,12 +231,18 @@ void RegisterAnalysis(py::module_& module) {
         params.geometric.max_cotangent = max_cotangent;
         return LaplacianBinding(frames, faces, params, return_mass);
       },
-      kLaplacianDoc, py::arg("frames_or_mesh"), py::arg("faces"), py::arg("operator") = "cotan",
-      py::kw_only(), py::arg("rank") = 0, py::arg("mu") = 0.0, py::arg("reference") = "tutte",
+      WithTextSignature("laplacian(frames_or_mesh, faces, operator='cotan', *, rank=0, mu=0.0, "
+                        "reference='tutte', reference_frame=-1, max_cotangent=" +
+                        Repr(geometric_defaults.max_cotangent) +
+                        ", return_mass=False) -> scipy.sparse.csr_matrix" +
+                        AfterFirstLine(kLaplacianDoc))
+          .c_str(),
+      py::arg("frames_or_mesh"), py::arg("faces"), py::arg("operator") = "cotan", py::kw_only(),
+      py::arg("rank") = 0, py::arg("mu") = 0.0, py::arg("reference") = "tutte",
       py::arg("reference_frame") = -1, py::arg("max_cotangent") = geometric_defaults.max_cotangent,
       py::arg("return_mass") = false);
 
-  module.def("operators", &OperatorTable, kOperatorsDoc);
+  module.def("operators", &OperatorTable, WithTextSignature(kOperatorsDoc).c_str());
 }
 
 }  // namespace dmc::python

@@ -218,6 +218,7 @@ std::string EncodeDoc() {
     options += DocEntry(spec.name, spec.help);
   }
   signature += ", name='', frame_rate=0.0, return_report=False) -> bytes";
+  // name and frame_rate also take None (unknown), read_sequence(metadata=True)'s values.
   return signature + R"(
 
 Compresses a mesh sequence to a .dmc stream (trajectory PCA, Laplace operator, high-pass
@@ -231,7 +232,7 @@ Args:
     faces: int32 array (T, 3) of 0-based vertex indices.
 )" + options +
          R"(    name: sequence name stored in the stream.
-    frame_rate: frames per second stored in the stream (0 = unknown).
+    frame_rate: frames per second stored in the stream (0 or None = unknown).
     return_report: also return a dict like `dmc encode --json` prints (bytes, bpfv, breakdown,
         rank, anchors, segments, residual_step, segment_operators, kg, sted, sted_s, sted_t,
         rmse_rel, max_error); kg and the other distortions are None unless measure is True.
@@ -298,10 +299,12 @@ py::object EncodeKeywords(const py::handle& frames, const py::handle& faces,
   std::vector<std::string> given;
   for (const auto& [key, value] : keywords) {
     const std::string keyword = key.cast<std::string>();
+    // None for the name and the frame rate means unknown, as read_sequence(metadata=True)
+    // returns them for inputs that record none (so its dict can be passed on as it is).
     if (keyword == "name") {
-      name = KeywordValue<std::string>(keyword, value);
+      name = value.is_none() ? std::string() : KeywordValue<std::string>(keyword, value);
     } else if (keyword == "frame_rate") {
-      frame_rate = KeywordValue<double>(keyword, value);
+      frame_rate = value.is_none() ? 0.0 : KeywordValue<double>(keyword, value);
     } else if (keyword == "return_report") {
       return_report = KeywordValue<bool>(keyword, value);
     } else if (const EncoderOptionSpec* spec = FindEncoderOption(keyword)) {
@@ -369,8 +372,9 @@ Raises:
 }  // namespace
 
 void RegisterCodec(py::module_& module) {
-  module.def("encode", &EncodeKeywords, EncodeDoc().c_str(), py::arg("frames"), py::arg("faces"));
-  module.def("encoder_options", &EncoderOptionList, kEncoderOptionsDoc);
+  module.def("encode", &EncodeKeywords, WithTextSignature(EncodeDoc()).c_str(), py::arg("frames"),
+             py::arg("faces"));
+  module.def("encoder_options", &EncoderOptionList, WithTextSignature(kEncoderOptionsDoc).c_str());
 
   module.def(
       "decode",
@@ -383,7 +387,12 @@ void RegisterCodec(py::module_& module) {
         });
         return SequenceToArrays(std::move(sequence));
       },
-      kDecodeDoc, py::arg("data"), py::kw_only(),
+      WithTextSignature(
+          "decode(data, *, max_output_bytes=" + Repr(DecoderOptions().max_output_bytes) +
+          ", max_matrix_bytes=" + Repr(DecoderOptions().max_matrix_bytes) + ") -> (frames, faces)" +
+          AfterFirstLine(kDecodeDoc))
+          .c_str(),
+      py::arg("data"), py::kw_only(),
       py::arg("max_output_bytes") = DecoderOptions().max_output_bytes,
       py::arg("max_matrix_bytes") = DecoderOptions().max_matrix_bytes);
 
@@ -402,7 +411,7 @@ void RegisterCodec(py::module_& module) {
         });
         return StreamInfoToDict(info, clips);
       },
-      kInfoDoc, py::arg("data"));
+      WithTextSignature(kInfoDoc).c_str(), py::arg("data"));
 }
 
 }  // namespace dmc::python

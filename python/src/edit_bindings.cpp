@@ -239,11 +239,12 @@ them to dmc.edit() as keyword=value).
 }  // namespace
 
 void RegisterEdit(py::module_& module) {
-  module.def("edit", &EditBinding, kEditDoc, py::arg("method"), py::arg("frames"), py::arg("faces"),
-             py::kw_only(), py::arg("operator") = "cotan", py::arg("operator_frame") = -1,
-             py::arg("selection") = py::none(), py::arg("ddl_mu") = 0.0,
-             py::arg("ddl_reference") = "tutte", py::arg("return_details") = false);
-  module.def("methods", &MethodTable, kMethodsDoc);
+  module.def("edit", &EditBinding, WithTextSignature(kEditDoc).c_str(), py::arg("method"),
+             py::arg("frames"), py::arg("faces"), py::kw_only(), py::arg("operator") = "cotan",
+             py::arg("operator_frame") = -1, py::arg("selection") = py::none(),
+             py::arg("ddl_mu") = 0.0, py::arg("ddl_reference") = "tutte",
+             py::arg("return_details") = false);
+  module.def("methods", &MethodTable, WithTextSignature(kMethodsDoc).c_str());
 }
 
 }  // namespace dmc::python

@@ -165,18 +165,22 @@ Raises:
 }  // namespace
 
 void RegisterIo(py::module_& module) {
-  module.def("read_sequence", &ReadSequenceBinding, kReadDoc, py::arg("path"), py::kw_only(),
-             py::arg("connectivity") = py::none(), py::arg("max_frames") = 0,
-             py::arg("threads") = 0, py::arg("gltf_fps") = 0.0, py::arg("gltf_mesh") = "",
-             py::arg("gltf_animation") = "", py::arg("gltf_weld") = false,
-             py::arg("metadata") = false);
-  module.def("write_sequence", &WriteSequenceBinding, kWriteDoc, py::arg("path"), py::arg("frames"),
-             py::arg("faces"), py::kw_only(), py::arg("frame_format") = "obj",
-             py::arg("frame_rate") = 0.0, py::arg("name") = "");
+  module.def("read_sequence", &ReadSequenceBinding, WithTextSignature(kReadDoc).c_str(),
+             py::arg("path"), py::kw_only(), py::arg("connectivity") = py::none(),
+             py::arg("max_frames") = 0, py::arg("threads") = 0, py::arg("gltf_fps") = 0.0,
+             py::arg("gltf_mesh") = "", py::arg("gltf_animation") = "",
+             py::arg("gltf_weld") = false, py::arg("metadata") = false);
+  module.def("write_sequence", &WriteSequenceBinding, WithTextSignature(kWriteDoc).c_str(),
+             py::arg("path"), py::arg("frames"), py::arg("faces"), py::kw_only(),
+             py::arg("frame_format") = "obj", py::arg("frame_rate") = 0.0, py::arg("name") = "");
   const SynthOptions defaults;
-  module.def("synth", &SynthBinding, kSynthDoc, py::arg("name"), py::kw_only(),
-             py::arg("frames") = defaults.frames, py::arg("resolution") = defaults.resolution,
-             py::arg("seed") = defaults.seed);
+  module.def("synth", &SynthBinding,
+             WithTextSignature("synth(name, *, frames=" + Repr(defaults.frames) + ", resolution=" +
+                               Repr(defaults.resolution) + ", seed=" + Repr(defaults.seed) +
+                               ") -> (frames, faces)" + AfterFirstLine(kSynthDoc))
+                 .c_str(),
+             py::arg("name"), py::kw_only(), py::arg("frames") = defaults.frames,
+             py::arg("resolution") = defaults.resolution, py::arg("seed") = defaults.seed);
   module.def(
       "synth_names",
       [] {
@@ -184,7 +188,9 @@ void RegisterIo(py::module_& module) {
         for (const std::string_view name : SynthNames()) names.append(std::string(name));
         return names;
       },
-      "synth_names() -> list[str]\n\nNames of the built-in animations dmc.synth() accepts.");
+      WithTextSignature(
+          "synth_names() -> list[str]\n\nNames of the built-in animations dmc.synth() accepts.")
+          .c_str());
 }
 
 }  // namespace dmc::python
