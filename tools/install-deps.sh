@@ -11,6 +11,7 @@ packages=(
   libtinygltf-dev libspectra-dev            # glTF import/export; eigensolvers for spectral methods
   gltfpack                                  # meshopt-compressed GLB inputs for the glTF tests
   pybind11-dev python3-dev python3-numpy python3-scipy  # the Python module and its tests
+  python3-pip python3-setuptools python3-wheel python3-venv  # the wheel, built and tested offline
   clang-14 libclang-rt-14-dev               # libFuzzer and the sanitizer runs
   clang-format-14 ccache                    # tools/test.sh's formatting check; compiler cache
   python3-clang-14                          # libclang's parser for tools/check-sizes.py
