@@ -12,6 +12,7 @@ packages=(
   gltfpack                                  # meshopt-compressed GLB inputs for the glTF tests
   pybind11-dev python3-dev python3-numpy python3-scipy  # the Python module and its tests
   python3-pip python3-setuptools python3-wheel python3-venv  # the wheel, built and tested offline
+  python3-distributed                       # python -m dmc.batch (Dask) and its test
   clang-14 libclang-rt-14-dev               # libFuzzer and the sanitizer runs
   clang-format-14 ccache                    # tools/test.sh's formatting check; compiler cache
   python3-clang-14                          # libclang's parser for tools/check-sizes.py
