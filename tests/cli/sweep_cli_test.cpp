@@ -15,6 +15,7 @@ namespace {
 
 using testing::FreshTempDir;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::Quoted;
 using testing::ReadText;
 using testing::RunDmc;
@@ -37,9 +38,10 @@ TEST(SweepCliTest, WritesTheCsvThePlotsAndTheSummary) {
 
   const std::string csv = ReadText(output / "rd.csv");
   EXPECT_EQ(csv.rfind("codec,operator,rank,basis_bits,residual_bits,anchors,bpfv,kg,sted,"
-                      "encode_s,decode_s\n",
+                      "encode_s,decode_s,coded_as,default_settings\n",
                       0),
             0u);
+  // No ddl curve, so no default settings' point.
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 2 + 2);
   EXPECT_THAT(csv, HasSubstr("\ndmc,tutte,"));
   EXPECT_THAT(csv, HasSubstr("\nzstd,,,,8,,"));
@@ -54,11 +56,56 @@ TEST(SweepCliTest, WritesTheCsvThePlotsAndTheSummary) {
   const std::string summary = ReadText(output / "summary.md");
   EXPECT_THAT(summary, HasSubstr("## Rate needed for a target STED (bpfv)"));
   EXPECT_THAT(summary, HasSubstr("| dmc/tutte |"));
-  EXPECT_THAT(summary, HasSubstr("BD-rate vs dmc/tutte"));
+  // The default operator is not swept: its first dmc curve is the anchor, and Draco too.
+  EXPECT_THAT(summary, HasSubstr("BD-rate vs dmc/tutte (STED)"));
+  EXPECT_THAT(summary, HasSubstr("BD-rate vs draco (STED)"));
+  EXPECT_THAT(summary, Not(HasSubstr("Default settings")));
   EXPECT_THAT(summary, HasSubstr("Command: `dmc sweep "));
   // The text report ends with the same rate table and the files written.
   EXPECT_THAT(result.out, HasSubstr("| zstd |"));
   EXPECT_THAT(result.out, HasSubstr("rd_sted.svg"));
+}
+
+// With the default operator swept, the default settings' point is encoded apart from the ladder:
+// the same bytes as `dmc encode`, marked on both plots, listed in rd.csv and the summary; the
+// BD-rates are against the ddl curve; each point says which operators it was coded with.
+TEST(SweepCliTest, MarksTheDefaultSettingsAndAnchorsOnTheDefaultOperator) {
+  const auto dir = FreshTempDir("sweep");
+  const auto input = SmallWalker(dir);
+  const auto output = dir / "rd";
+  const auto result = RunDmc("sweep " + Quoted(input) + " -o " + Quoted(output) +
+                             " --operators ddl,tutte --baselines draco --points 2 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  const nlohmann::json& defaults = report["default_point"];
+  ASSERT_TRUE(defaults.is_object()) << result.out;
+  const auto encoded =
+      RunDmc("encode " + Quoted(input) + " -o " + Quoted(dir / "d.dmc") + " --json");
+  ASSERT_EQ(encoded.exit_code, 0) << encoded.err;
+  const nlohmann::json encode_report = nlohmann::json::parse(encoded.out);
+  EXPECT_EQ(defaults["bytes"], encode_report["bytes"]);
+  EXPECT_EQ(defaults["operator"], "ddl");
+  EXPECT_EQ(report["points"].size(), 2u + 2u + 2u);  // the ladders, not the default point
+  for (const nlohmann::json& point : report["points"]) {
+    if (point["codec"] == "dmc") {
+      EXPECT_FALSE(point["segment_operators"].get<std::string>().empty());
+    }
+  }
+  const std::string csv = ReadText(output / "rd.csv");
+  EXPECT_THAT(csv, HasSubstr(",1\n"));
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 + 2 + 2 + 1);
+  for (const char* plot : {"rd_sted.svg", "rd_kg.svg"}) {
+    const std::string svg = ReadText(output / plot);
+    EXPECT_THAT(svg, HasSubstr("<polygon")) << plot;
+    EXPECT_THAT(svg, HasSubstr(">dmc encode defaults (ddl, 10 bits)</text>")) << plot;
+  }
+  const std::string summary = ReadText(output / "summary.md");
+  EXPECT_THAT(summary, HasSubstr("BD-rate vs dmc/ddl (STED)"));
+  EXPECT_THAT(summary, HasSubstr("BD-rate vs draco (STED)"));
+  EXPECT_THAT(summary, HasSubstr("| dmc/ddl |"));
+  EXPECT_THAT(summary, HasSubstr("**Default settings**"));
+  EXPECT_THAT(summary, HasSubstr("(default settings)"));
+  EXPECT_THAT(summary, HasSubstr("| coded as |"));
 }
 
 TEST(SweepCliTest, JsonListsEveryPoint) {

@@ -284,12 +284,17 @@ int RunSweep(SweepArgs args) {
     progress->Update(done);
     if (!warning.empty()) ReportWarning("sweep", warning);
     if (point != nullptr && !args.json) {
+      // A ddl point the fallback coded (in part) with another operator says so.
+      const bool other_operator =
+          !point->segment_operators.empty() &&
+          point->segment_operators != fmt::format("{}:{}", point->operator_name, point->segments);
       fmt::print(
           "  {:<16} bits {:5.2f}  rank {:>3}  {:8.4f} bpfv  KG {:8.4f}  STED {:8.5f}  "
-          "encode {:6.2f} s  decode {:6.3f} s\n",
+          "encode {:6.2f} s  decode {:6.3f} s{}\n",
           point->Curve(), point->residual_bits,
           point->rank < 0 ? std::string("-") : std::to_string(point->rank), point->bpfv, point->kg,
-          point->sted, point->encode_s, point->decode_s);
+          point->sted, point->encode_s, point->decode_s,
+          other_operator ? "  coded as " + point->segment_operators : "");
       std::fflush(stdout);
     }
   };
@@ -305,6 +310,7 @@ int RunSweep(SweepArgs args) {
   context.sted = options.sted;
   context.sted_targets = args.sted_targets;
   context.warnings = result->warnings;
+  context.default_point = result->default_point;
   const std::vector<sweep::YardstickRow> rows =
       sweep::YardstickRows(args.sequence, sequence->vertex_count(), sequence->frame_count(),
                            options.effort, result->points);
@@ -325,11 +331,11 @@ int RunSweep(SweepArgs args) {
                                            sequence->name.empty() ? args.input : sequence->name,
                                            sequence->vertex_count(), sequence->frame_count());
   std::vector<std::pair<std::string, std::string>> files = {
-      {"rd.csv", sweep::RdCsv(result->points)},
-      {"rd_sted.svg",
-       sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kSted, subtitle))},
-      {"rd_kg.svg",
-       sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kKg, subtitle))},
+      {"rd.csv", sweep::RdCsv(result->points, result->default_point)},
+      {"rd_sted.svg", sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kSted,
+                                                         subtitle, result->default_point))},
+      {"rd_kg.svg", sweep::RenderSvgPlot(sweep::RdPlot(result->points, sweep::RdMetric::kKg,
+                                                       subtitle, result->default_point))},
       {"summary.md", sweep::SummaryMarkdown(result->points, context)},
       {"yardstick.csv",
        sweep::YardstickCsv({{"input", args.input}, {"command", context.command}}, rows)},
@@ -355,6 +361,8 @@ int RunSweep(SweepArgs args) {
                {"frames", sequence->frame_count()},
                {"output", args.output},
                {"points", points},
+               {"default_point", result->default_point ? PointJson(*result->default_point)
+                                                       : nlohmann::json(nullptr)},
                {"baseline", baseline ? nlohmann::json(args.baseline) : nlohmann::json(nullptr)},
                {"comparisons", compared},
                {"warnings", result->warnings}});

@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 
+#include "dmc/encoder.h"
 #include "sweep/rd_analysis.h"
 
 namespace dmc::sweep {
@@ -51,14 +52,16 @@ std::string PercentCell(const std::optional<double>& percent) {
   return percent ? fmt::format("{:+.1f} %", *percent) : "–";
 }
 
-std::string RdCsv(const std::vector<RdPoint>& points) {
+std::string RdCsv(const std::vector<RdPoint>& points, const std::optional<RdPoint>& default_point) {
   std::string csv = std::string(kRdCsvHeader) + "\n";
-  for (const RdPoint& p : points) {
-    csv += fmt::format("{},{},{},{},{},{},{},{},{},{:.4f},{:.4f}\n", p.codec, p.operator_name,
+  const auto row = [&](const RdPoint& p, bool default_settings) {
+    csv += fmt::format("{},{},{},{},{},{},{},{},{},{:.4f},{:.4f},{},{}\n", p.codec, p.operator_name,
                        OptionalInt(p.rank), OptionalInt(p.basis_bits), Number(p.residual_bits),
                        OptionalInt(p.anchors), Number(p.bpfv), Number(p.kg), Number(p.sted),
-                       p.encode_s, p.decode_s);
-  }
+                       p.encode_s, p.decode_s, p.segment_operators, default_settings ? 1 : 0);
+  };
+  for (const RdPoint& p : points) row(p, false);
+  if (default_point) row(*default_point, true);
   return csv;
 }
 
@@ -71,7 +74,8 @@ std::vector<std::string> CurveNames(const std::vector<RdPoint>& points) {
   return names;
 }
 
-PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::string& subtitle) {
+PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::string& subtitle,
+                const std::optional<RdPoint>& default_point) {
   PlotSpec spec;
   const bool sted = metric == RdMetric::kSted;
   spec.title = sted ? "Rate–distortion: STED" : "Rate–distortion: KG error";
@@ -89,26 +93,48 @@ PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::
     }
     spec.series.push_back(std::move(series));
   }
+  if (default_point) {
+    spec.marks.push_back({"dmc encode defaults (" + default_point->operator_name + ", " +
+                              fmt::format("{:g}", default_point->residual_bits) + " bits)",
+                          default_point->bpfv, sted ? default_point->sted : default_point->kg});
+  }
   return spec;
+}
+
+std::vector<std::string> BdAnchors(const std::vector<RdPoint>& points,
+                                   const SummaryContext& context) {
+  const std::vector<std::string> curves = CurveNames(points);
+  std::vector<std::string> anchors;
+  for (const std::string& wanted : context.bd_anchors) {
+    std::string anchor = wanted;
+    if (std::find(curves.begin(), curves.end(), anchor) == curves.end()) {
+      if (anchor.rfind("dmc/", 0) != 0) continue;
+      // No default operator in this sweep: its first dmc curve instead.
+      const auto dmc = std::find_if(curves.begin(), curves.end(),
+                                    [](const std::string& c) { return c.rfind("dmc/", 0) == 0; });
+      if (dmc == curves.end()) continue;
+      anchor = *dmc;
+    }
+    if (std::find(anchors.begin(), anchors.end(), anchor) == anchors.end()) {
+      anchors.push_back(anchor);
+    }
+  }
+  return anchors;
 }
 
 std::string RateTargetTable(const std::vector<RdPoint>& points, const SummaryContext& context) {
   const std::vector<std::string> curves = CurveNames(points);
-  const bool have_anchor =
-      std::find(curves.begin(), curves.end(), context.bd_anchor) != curves.end();
+  const std::vector<std::string> anchors = BdAnchors(points, context);
   std::string md;
   md += "## Rate needed for a target STED (bpfv)\n\n";
   md += "| curve |";
   for (const double target : context.sted_targets) md += fmt::format(" STED {:g} |", target);
-  md += fmt::format(" BD-rate vs {} (STED) | BD-rate vs {} (KG) |\n", context.bd_anchor,
-                    context.bd_anchor);
-  md += "|---|";
-  for (size_t i = 0; i < context.sted_targets.size(); ++i) md += "---:|";
-  md += "---:|---:|\n";
-  const std::vector<RdSample> anchor_sted =
-      ParetoFront(Samples(points, context.bd_anchor, RdMetric::kSted));
-  const std::vector<RdSample> anchor_kg =
-      ParetoFront(Samples(points, context.bd_anchor, RdMetric::kKg));
+  for (const std::string& anchor : anchors) {
+    md += fmt::format(" BD-rate vs {0} (STED) | BD-rate vs {0} (KG) |", anchor);
+  }
+  md += "\n|---|";
+  for (size_t i = 0; i < context.sted_targets.size() + 2 * anchors.size(); ++i) md += "---:|";
+  md += "\n";
   for (const std::string& curve : curves) {
     const std::vector<RdSample> sted_front = ParetoFront(Samples(points, curve, RdMetric::kSted));
     const std::vector<RdSample> kg_front = ParetoFront(Samples(points, curve, RdMetric::kKg));
@@ -116,14 +142,27 @@ std::string RateTargetTable(const std::vector<RdPoint>& points, const SummaryCon
     for (const double target : context.sted_targets) {
       md += fmt::format(" {} |", RateCell(RateForDistortion(sted_front, target)));
     }
-    if (!have_anchor) {
-      md += " – | – |\n";
-    } else if (curve == context.bd_anchor) {
-      md += " 0 (anchor) | 0 (anchor) |\n";
-    } else {
-      md += fmt::format(" {} | {} |\n", PercentCell(BjontegaardDeltaRate(anchor_sted, sted_front)),
-                        PercentCell(BjontegaardDeltaRate(anchor_kg, kg_front)));
+    for (const std::string& anchor : anchors) {
+      if (curve == anchor) {
+        md += " 0 (anchor) | 0 (anchor) |";
+        continue;
+      }
+      md += fmt::format(" {} | {} |",
+                        PercentCell(BjontegaardDeltaRate(
+                            ParetoFront(Samples(points, anchor, RdMetric::kSted)), sted_front)),
+                        PercentCell(BjontegaardDeltaRate(
+                            ParetoFront(Samples(points, anchor, RdMetric::kKg)), kg_front)));
     }
+    md += "\n";
+  }
+  if (context.default_point) {
+    const RdPoint& p = *context.default_point;
+    md += fmt::format(
+        "\n**Default settings** (`dmc encode` with no rate option: operator {}, {} residual "
+        "bits, effort {}; the diamond on the plots): {:.4g} bpfv, KG {:.4g}, STED {:.4g}, rank "
+        "{}, coded as {}.\n",
+        p.operator_name, fmt::format("{:g}", p.residual_bits), EncoderOptions().effort, p.bpfv,
+        p.kg, p.sted, p.rank, p.segment_operators);
   }
   md +=
       "\nRates are interpolated linearly in log–log between the two efficient points around the "
@@ -188,19 +227,24 @@ std::string SummaryMarkdown(const std::vector<RdPoint>& points, const SummaryCon
 
   md += "## All points\n\n";
   md +=
-      "| codec | operator | rank | basis bits | residual bits | anchors | bpfv | KG | STED | "
-      "encode s | decode s |\n";
-  md += "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const RdPoint& p : points) {
+      "| codec | operator | coded as | rank | basis bits | residual bits | anchors | bpfv | KG | "
+      "STED | encode s | decode s |\n";
+  md += "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  const auto row = [&](const RdPoint& p, const std::string& note) {
     md += fmt::format(
-        "| {} | {} | {} | {} | {:.4g} | {} | {:.4g} | {:.4g} | {:.4g} | {:.3f} | "
+        "| {} | {}{} | {} | {} | {} | {:.4g} | {} | {:.4g} | {:.4g} | {:.4g} | {:.3f} | "
         "{:.3f} |\n",
-        p.codec, p.operator_name, OptionalInt(p.rank), OptionalInt(p.basis_bits), p.residual_bits,
-        OptionalInt(p.anchors), p.bpfv, p.kg, p.sted, p.encode_s, p.decode_s);
-  }
+        p.codec, p.operator_name, note, p.segment_operators, OptionalInt(p.rank),
+        OptionalInt(p.basis_bits), p.residual_bits, OptionalInt(p.anchors), p.bpfv, p.kg, p.sted,
+        p.encode_s, p.decode_s);
+  };
+  for (const RdPoint& p : points) row(p, "");
+  if (context.default_point) row(*context.default_point, " (default settings)");
   md +=
-      "\nFor dmc, residual bits = log2(bounding-box diagonal / residual step) and rank and "
-      "anchors are those of the first segment. For the baselines the residual-bits column holds "
+      "\nFor dmc, residual bits = log2(bounding-box diagonal / residual step), rank and "
+      "anchors are those of the first segment, and \"coded as\" counts the operators the "
+      "segments were coded with (the ddl operator's fallback may code one with kirchhoff, tutte "
+      "or mean-value). For the baselines the residual-bits column holds "
       "the position quantisation bits (draco: per frame over the frame's box; meshopt and zstd: "
       "one cubic grid over the sequence's box).\n";
   return md;

@@ -14,12 +14,14 @@ namespace dmc::sweep {
 
 // The CSV header, exactly.
 inline constexpr const char* kRdCsvHeader =
-    "codec,operator,rank,basis_bits,residual_bits,anchors,bpfv,kg,sted,encode_s,decode_s";
+    "codec,operator,rank,basis_bits,residual_bits,anchors,bpfv,kg,sted,encode_s,decode_s,"
+    "coded_as,default_settings";
 
 // rd.csv: the header, then one row per point in sweep order. Fields that do not apply (operator,
 // rank, basis_bits and anchors of a baseline) are empty; a baseline's residual_bits column holds
 // its position quantisation bits. Numbers use up to 6 significant digits (seconds 4 decimals).
-std::string RdCsv(const std::vector<RdPoint>& points);
+std::string RdCsv(const std::vector<RdPoint>& points,
+                  const std::optional<RdPoint>& default_point = std::nullopt);
 
 // The curves in the order they were swept ("dmc/<op>" first, then the baselines).
 std::vector<std::string> CurveNames(const std::vector<RdPoint>& points);
@@ -32,8 +34,9 @@ std::string PercentCell(const std::optional<double>& percent);
 enum class RdMetric { kSted, kKg };
 
 // The rate–distortion plot of one metric: bpfv on a log x axis, the metric on a log y axis, one
-// series per curve (baselines dashed).
-PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::string& subtitle);
+// series per curve (baselines dashed), and the default settings' point marked when given.
+PlotSpec RdPlot(const std::vector<RdPoint>& points, RdMetric metric, const std::string& subtitle,
+                const std::optional<RdPoint>& default_point = std::nullopt);
 
 struct SummaryContext {
   std::string input;    // what was swept, as given
@@ -42,7 +45,10 @@ struct SummaryContext {
   int frames = 0;
   StedOptions sted;
   std::vector<double> sted_targets = {0.01, 0.02, 0.05};
-  std::string bd_anchor = "dmc/tutte";  // BD-rates are against this curve (when present)
+  // BD-rates are against each of these curves that the sweep has: the default operator's curve
+  // (or, without it, the first dmc curve) and per-frame Draco.
+  std::vector<std::string> bd_anchors = {"dmc/ddl", "draco"};
+  std::optional<RdPoint> default_point;  // SweepResult::default_point
   std::vector<std::string> warnings;
 };
 

@@ -171,6 +171,12 @@ std::string RenderSvgPlot(const PlotSpec& spec) {
       }
     }
   }
+  for (const PlotMark& mark : spec.marks) {
+    if (Drawable(mark.x, spec.log_x) && Drawable(mark.y, spec.log_y)) {
+      xs.push_back(mark.x);
+      ys.push_back(mark.y);
+    }
+  }
   Axis x_axis = MakeAxis(xs, spec.log_x);
   Axis y_axis = MakeAxis(ys, spec.log_y);
   x_axis.pixel_low = left;
@@ -265,6 +271,19 @@ std::string RenderSvgPlot(const PlotSpec& spec) {
       }
     }
   }
+  const auto diamond = [](double x, double y) {
+    return fmt::format(
+        "<polygon points=\"{:.1f},{:.1f} {:.1f},{:.1f} {:.1f},{:.1f} {:.1f},{:.1f}\" "
+        "fill=\"white\" stroke=\"black\" stroke-width=\"2\"/>\n",
+        x, y - 7, x + 7, y, x, y + 7, x - 7, y);
+  };
+  for (const PlotMark& mark : spec.marks) {
+    if (!Drawable(mark.x, spec.log_x) || !Drawable(mark.y, spec.log_y)) continue;
+    const double x = x_axis.Map(mark.x), y = y_axis.Map(mark.y);
+    svg += diamond(x, y);
+    svg += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\" font-size=\"12\">{}</text>\n", x + 10,
+                       y - 8, Escape(mark.label));
+  }
   svg += "</g>\n<g font-size=\"13\">\n";
   const double legend_x = right + 18;
   for (size_t s = 0; s < spec.series.size(); ++s) {
@@ -284,6 +303,12 @@ std::string RenderSvgPlot(const PlotSpec& spec) {
     }
     svg += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 40, y + 4.5,
                        Escape(series.label));
+  }
+  for (size_t m = 0; m < spec.marks.size(); ++m) {
+    const double y = top + 10 + 24.0 * static_cast<double>(spec.series.size() + m);
+    svg += diamond(legend_x + 15, y);
+    svg += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 40, y + 4.5,
+                       Escape(spec.marks[m].label));
   }
   svg += "</g>\n</svg>\n";
   return svg;

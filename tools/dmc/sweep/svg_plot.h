@@ -15,6 +15,14 @@ struct PlotSeries {
   bool dashed = false;                            // e.g. the baselines, to set them apart
 };
 
+// One point drawn apart from the curves (a black-outlined diamond with its label beside it and in
+// the legend), e.g. what the encoder's default settings give.
+struct PlotMark {
+  std::string label;
+  double x = 0.0;
+  double y = 0.0;
+};
+
 struct PlotSpec {
   std::string title;
   std::string subtitle;  // smaller second line, e.g. the sequence; may be empty
@@ -23,6 +31,7 @@ struct PlotSpec {
   bool log_x = true;
   bool log_y = true;
   std::vector<PlotSeries> series;
+  std::vector<PlotMark> marks;  // drawn over the series; they count in the axes' ranges
   int width = 960;
   int height = 600;
 };

@@ -297,6 +297,21 @@ StatusOr<SweepResult> RunSweep(const MeshSequence& sequence, const SweepOptions&
       report(&result.points.back(), "");
     }
   }
+  // The default settings' point, apart from the ladder.
+  const EncoderOptions defaults;
+  if (std::find(options.operators.begin(), options.operators.end(), defaults.operator_name) !=
+      options.operators.end()) {
+    SweepOptions default_sweep = options;
+    default_sweep.effort = defaults.effort;
+    StatusOr<RdPoint> point =
+        RunDmcPoint(sequence, meter, defaults.operator_name, defaults.residual_bits,
+                    defaults.basis_bits, default_sweep, diagonal);
+    if (point.ok()) {
+      result.default_point = *point;
+    } else {
+      report(nullptr, "the default settings' point skipped: " + Describe(point.status()));
+    }
+  }
   for (const BaselineKind kind : options.baselines) {
     const std::string name(BaselineName(kind));
     for (size_t rung = 0; rung < baseline_ladder.size(); ++rung) {

@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,10 @@ int BasisBitsFor(double residual_bits, int fixed_basis_bits);
 struct SweepResult {
   std::vector<RdPoint> points;        // in sweep order: operators' ladders, then baselines
   std::vector<std::string> warnings;  // skipped operators, baselines or points, one sentence each
+  // What `dmc encode` gives with its default rate settings (the default operator, residual and
+  // basis bits and effort; the sweep's other encoder options): swept when the default operator
+  // is, kept apart from the curves (it is in no curve, table statistic or yardstick row).
+  std::optional<RdPoint> default_point;
 };
 
 // Called after each point with the number of points done and the (current) total; the total
