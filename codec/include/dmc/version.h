@@ -1,8 +1,8 @@
 // The library's version: the one place it is written. CMakeLists.txt reads these three numbers for
 // project(VERSION), the package files and the Python module's __version__; `dmc --version` prints
-// them; web/package.json and the viewer's package.json must say the same (ctest
-// version.consistent). The stream format has its own version (bitstream-spec/dmc-format.md §4.1),
-// independent of this.
+// them; the package.json files and the spec's "Reference implementation" line (major.minor) must
+// say the same (ctest version.consistent). The stream format has its own version
+// (bitstream-spec/dmc-format.md §4.1), independent of this.
 #pragma once
 
 #define DMC_VERSION_MAJOR 0
