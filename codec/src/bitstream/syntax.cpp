@@ -102,6 +102,9 @@ int64_t PredictWeight(WeightPrediction mode, int64_t remaining, const MeshTopolo
   // however large the fan (the spec defines the prediction in exact integers).
   Int128 total = 0;
   for (int32_t e : unknown_edges) total += ReferenceWeight(topology, e);
+  // Every reference weight rounds to 0 only around vertices of degree above 2^20 (a crafted
+  // stream): the prediction is then the uniform one, not a division by zero (§9.4).
+  if (total == 0) return RoundDiv(remaining, n);
   const Int128 numerator =
       static_cast<Int128>(remaining) * ReferenceWeight(topology, unknown_edges[0]);
   const Int128 a = 2 * numerator + total, b = 2 * total;

@@ -122,7 +122,11 @@ StatusOr<LaplaceOperator> BuildCotanArea(const MeshTopology& topology,
   Eigen::VectorXd areas = MixedVoronoiAreas(topology, positions);
   // A vertex whose triangles all have zero area would get infinite weights; floor its area at a
   // tiny fraction of the mean (or at 1, the thesis's "unit area" variant, if every area is zero).
-  const double mean_area = areas.size() > 0 ? areas.mean() : 0.0;
+  // Summed in vertex order, one addition at a time, as §9.5 states (Eigen's mean() reduces in
+  // vector lanes: another order, another last bit).
+  double area_sum = 0.0;
+  for (Eigen::Index v = 0; v < areas.size(); ++v) area_sum += areas[v];
+  const double mean_area = areas.size() > 0 ? area_sum / static_cast<double>(areas.size()) : 0.0;
   const double area_floor = mean_area > 0.0 ? 1e-12 * mean_area : 1.0;
   for (int v = 0; v < topology.vertex_count; ++v) {
     if (topology.degree(v) > 0 && !(areas[v] > area_floor)) {

@@ -303,5 +303,23 @@ TEST(HostileStreams, DdlPredictionIsExactForLargeFans) {
             exact);
 }
 
+TEST(HostileStreams, DdlPredictionFallsBackToUniformWhenEveryReferenceWeightIsZero) {
+  // §9.4: RW(e) = ((d_i + d_j) · 2^20) div (2 · d_i · d_j) is 0 once both ends have degree above
+  // 2^21. Two hubs joined by one edge, each adjacent to 2^21 + 1 vertices: the prediction of that
+  // edge alone divided by Σ RW = 0 (a crash on a crafted stream); it is now the uniform one.
+  constexpr int kLeaves = (1 << 21) + 1;
+  Triangles triangles(kLeaves, 3);
+  for (int t = 0; t < kLeaves; ++t) triangles.row(t) << 0, 1, t + 2;
+  const MeshTopology topology = BuildTopology(triangles, kLeaves + 2);
+  const int32_t hub_edge = topology.ring_edges[topology.ring_offsets[0]];  // edge (0, 1)
+  ASSERT_EQ(topology.edges[hub_edge], (std::array<int32_t, 2>{0, 1}));
+  ASSERT_EQ(format::ReferenceWeight(topology, hub_edge), 0);
+  for (const int64_t remaining : {int64_t{1} << 20, int64_t{-12345}, int64_t{0}}) {
+    EXPECT_EQ(format::PredictWeight(format::WeightPrediction::kReferenceProportional, remaining,
+                                    topology, std::vector<int32_t>{hub_edge}),
+              format::RoundDiv(remaining, 1));
+  }
+}
+
 }  // namespace
 }  // namespace dmc

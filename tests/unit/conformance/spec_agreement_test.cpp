@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -24,11 +25,25 @@
 namespace dmc {
 namespace {
 
-std::string SpecText() {
-  std::ifstream in(std::string(DMC_SOURCE_DIR) + "/bitstream-spec/dmc-format.md");
+std::string SourceText(const std::string& path) {
+  std::ifstream in(std::string(DMC_SOURCE_DIR) + "/" + path);
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+std::string SpecText() { return SourceText("bitstream-spec/dmc-format.md"); }
+
+// The spec's section titles by number: "12.2" -> "Syntax digests" (from "### 12.2 Syntax digests").
+std::map<std::string, std::string> SpecSections(const std::string& spec) {
+  std::map<std::string, std::string> sections;
+  std::istringstream lines(spec);
+  const std::regex heading(R"(^#{2,4} ([0-9]+(?:\.[0-9]+)*)\.? (.*)$)");
+  std::smatch match;
+  for (std::string line; std::getline(lines, line);) {
+    if (std::regex_match(line, match, heading)) sections[match[1]] = match[2];
+  }
+  return sections;
 }
 
 std::string Trim(const std::string& text) {
@@ -125,6 +140,36 @@ TEST_F(SpecAgreement, SpecIsPresentAndNamesTheFormatVersion) {
   std::snprintf(magic, sizeof magic, "`%02X %02X %02X %02X`", format::kMagic[0], format::kMagic[1],
                 format::kMagic[2], format::kMagic[3]);
   EXPECT_NE(spec().find(magic), std::string::npos) << "magic " << magic << " not in the spec";
+}
+
+// conformance/README.md cites the spec by section: every number it cites is a section, and the
+// ones it names by subject are the sections of that subject (they were off by one once).
+TEST_F(SpecAgreement, ConformanceReadmeCitesTheRightSections) {
+  const std::string readme = SourceText("conformance/README.md");
+  ASSERT_FALSE(readme.empty());
+  const std::map<std::string, std::string> sections = SpecSections(spec());
+  ASSERT_GT(sections.size(), 40u);
+  const std::regex citation(R"(§([0-9]+(?:\.[0-9]+)*))");
+  int cited = 0;
+  for (std::sregex_iterator it(readme.begin(), readme.end(), citation), end; it != end; ++it) {
+    const std::string number = (*it)[1];
+    EXPECT_TRUE(sections.count(number))
+        << "conformance/README.md cites §" << number << ", which the spec does not have";
+    ++cited;
+  }
+  EXPECT_GT(cited, 5);
+  for (const auto& [number, title] :
+       std::map<std::string, std::string>{{"12", "Conformance"},
+                                          {"12.2", "Syntax digests"},
+                                          {"12.3", "Tolerance"},
+                                          {"11.1", "Error codes"},
+                                          {"11.3", "Summary of invalid conditions"},
+                                          {"4.2", "Chunk framing"}}) {
+    ASSERT_TRUE(sections.count(number)) << "§" << number;
+    EXPECT_EQ(sections.at(number), title) << "§" << number;
+    EXPECT_NE(readme.find("§" + number), std::string::npos)
+        << "conformance/README.md no longer cites §" << number << " (" << title << ")";
+  }
 }
 
 TEST_F(SpecAgreement, OperatorIdsMatchTheHeaderAndTheRegistryNames) {
