@@ -33,7 +33,9 @@
 #include "dmc/decoder.h"
 #include "dmc/encoder.h"
 #include "dmc/encoder_options.h"
+#include "dmc/laplace_operator.h"
 #include "dmc/synth.h"
+#include "encoder/connectivity_encoder.h"
 #include "encoder/range_encoder.h"
 #include "encoder/stream_writer.h"
 #include "encoder/syntax_writer.h"
@@ -144,6 +146,83 @@ Source GradedGrid(int n, int frames) {
           }};
 }
 
+// A torus (genus 1: every edgebreaker traversal of it meets its handles, so the Draco buffer holds
+// topology split events), an n × m grid wrapped in both directions, breathing and turning.
+Source Torus(int n, int m, int frames) {
+  Json description = {{"mesh", "torus"}, {"around", n}, {"tube", m}, {"frames", frames}};
+  return {description, [=]() -> StatusOr<MeshSequence> {
+            Triangles triangles(2 * n * m, 3);
+            auto at = [&](int i, int j) { return (i % n) * m + (j % m); };
+            for (int i = 0; i < n; ++i) {
+              for (int j = 0; j < m; ++j) {
+                triangles.row(2 * (i * m + j)) << at(i, j), at(i + 1, j), at(i + 1, j + 1);
+                triangles.row(2 * (i * m + j) + 1) << at(i, j), at(i + 1, j + 1), at(i, j + 1);
+              }
+            }
+            MeshSequence sequence(n * m, triangles, frames);
+            for (int f = 0; f < frames; ++f) {
+              const double r = 0.3 + 0.05 * std::sin(0.7 * f), turn = 0.2 * f;
+              for (int i = 0; i < n; ++i) {
+                for (int j = 0; j < m; ++j) {
+                  const double u = 2.0 * std::numbers::pi * i / n + turn;
+                  const double v = 2.0 * std::numbers::pi * j / m;
+                  sequence.frame(f).row(at(i, j))
+                      << static_cast<float>((1.0 + r * std::cos(v)) * std::cos(u)),
+                      static_cast<float>((1.0 + r * std::cos(v)) * std::sin(u)),
+                      static_cast<float>(r * std::sin(v));
+                }
+              }
+            }
+            sequence.name = "torus";
+            sequence.frame_rate = 24.0;
+            return sequence;
+          }};
+}
+
+// An n × n sheet with every case the geometric formulas of §9.5 guard against: its first two rows
+// 10^-4 apart (slivers whose angles are far below 1°: clamped cotangents), a vertex j whose only
+// triangle is (0, 0, j) (a repeated vertex: degenerate corners, and j's unit-sum row sums to 0,
+// so it takes the Tutte row), a third triangle on an interior edge (a non-manifold edge) and an
+// isolated vertex (so the connectivity is the indexed method 0, which allows all of these).
+Source DegenerateSheet(int n, int frames) {
+  Json description = {{"mesh",
+                       "sheet with slivers, a repeated-vertex triangle, a non-manifold "
+                       "edge and an isolated vertex"},
+                      {"grid", n},
+                      {"frames", frames}};
+  return {description, [=]() -> StatusOr<MeshSequence> {
+            const Triangles grid = synth::GridTriangles(n, n, synth::GridDiagonals::kUniform);
+            const int dangling = n * n, fin = n * n + 1, isolated = n * n + 2;
+            const int centre = (n / 2) * n + n / 2;
+            Triangles triangles(grid.rows() + 2, 3);
+            triangles.topRows(grid.rows()) = grid;
+            triangles.row(grid.rows()) << 0, 0, dangling;
+            triangles.row(grid.rows() + 1) << centre, centre + 1, fin;
+            MeshSequence sequence(n * n + 3, triangles, frames);
+            for (int f = 0; f < frames; ++f) {
+              const double phase = 2.0 * std::numbers::pi * f / 6.0;
+              for (int v = 0; v < n * n; ++v) {
+                const int row = v / n;
+                const double x = static_cast<double>(v % n) / (n - 1);
+                const double y =
+                    row == 0 ? 0.0 : 1e-4 + static_cast<double>(row - 1) / (n - 2);  // a sliver row
+                const double z = 0.05 * std::sin(3.0 * x + phase) * std::cos(2.0 * y);
+                sequence.frame(f).row(v) << static_cast<float>(x), static_cast<float>(y),
+                    static_cast<float>(z);
+              }
+              sequence.frame(f).row(dangling) << -0.1f, -0.05f,
+                  static_cast<float>(0.02 * std::sin(phase));
+              sequence.frame(f).row(fin) << static_cast<float>((centre % n + 0.5) / (n - 1)), 0.5f,
+                  static_cast<float>(0.2 + 0.03 * std::cos(phase));
+              sequence.frame(f).row(isolated) << 1.2f, 1.2f,
+                  static_cast<float>(0.1 * std::sin(phase));
+            }
+            sequence.name = "degenerate-sheet";
+            sequence.frame_rate = 30.0;
+            return sequence;
+          }};
+}
+
 // Every option that can change the bytes, under its table name (dmc/encoder_options.h).
 Json OptionsJson(const EncoderOptions& options) {
   Json json = Json::object();
@@ -181,7 +260,76 @@ struct ValidVector {
   // A scene chunk (1.3, spec §6.3) inserted third: its payload (ScenePayload's, or hand-made).
   std::vector<uint8_t> scene_payload;
   std::vector<uint8_t> scene;  // what it decompresses to
+  // Repairs the geometric operator of every segment must make (spec §9.5), counted by rebuilding
+  // it from the stream: each flag set means "at least one".
+  bool clamped_cotangents = false, degenerate_triangles = false, tutte_fallback_rows = false,
+       clamped_areas = false;
+  // Every segment header's anchor weight set to this after encoding (0: kept); the stream stays
+  // valid, the reconstruction is what the decoder makes of it (spec §10.1).
+  double anchor_weight = 0.0;
+  // The connectivity recoded with this label model (wire value, spec §7.3; -1: the encoder's
+  // smallest). The labels, hence the output, are the same; only their coding changes.
+  int label_model = -1;
+  // The Draco buffer must hold topology split events (spec §7.3.1; a mesh of genus > 0).
+  bool topology_splits = false;
 };
+
+// The label model byte of a method-1 connectivity payload (method, varint n, n Draco bytes, the
+// byte), or -1.
+int LabelModelOf(std::span<const uint8_t> payload) {
+  ByteReader reader(payload.subspan(1));
+  uint64_t size = 0;
+  std::span<const uint8_t> draco;
+  uint8_t model = 0;
+  if (!reader.GetVarU(&size, "n").ok() || !reader.GetBytes(size, &draco, "draco").ok() ||
+      !reader.GetU8(&model, "label model").ok()) {
+    return -1;
+  }
+  return model;
+}
+
+// Spec sections a valid stream exercises, from what it holds (the runner prints them).
+std::vector<std::string> Covers(const ParsedStream& parsed, const StreamInfo& info,
+                                const std::vector<OperatorStats>& stats) {
+  std::set<std::string> covers = {"4.1", "4.2", "4.4", "6.1", "10.1", "10.2"};
+  const uint8_t method = parsed.framed.chunks[1].payload.front();
+  covers.insert(method == 0 ? "7.2" : "7.3");
+  if (method != 0) covers.insert("7.3.1");
+  if (method == 1) {
+    covers.insert({"7.3.2", "7.3.3"});
+    if (const int model = LabelModelOf(parsed.framed.chunks[1].payload); model >= 0) {
+      covers.insert("7.3 label model " + std::to_string(model));
+      if (connectivity::LabelModel::FromWire(static_cast<uint8_t>(model)).kernel_code > 0) {
+        covers.insert("7.3.4");
+      }
+    }
+  }
+  if (info.scene_bytes > 0) covers.insert("6.3");
+  for (size_t s = 0; s < parsed.segments.size(); ++s) {
+    const SegmentSyntax& segment = parsed.segments[s];
+    covers.insert({"8.1", "8.2", "8.5", "8.6"});
+    if (segment.header.rank > 0) covers.insert(info.version_minor >= 1 ? "8.3.2" : "8.3.1");
+    const auto id = static_cast<OperatorId>(segment.header.operator_id);
+    covers.insert(id == OperatorId::kDdl                                       ? "9.4"
+                  : (id == OperatorId::kKirchhoff || id == OperatorId::kTutte) ? "9.3"
+                                                                               : "9.5");
+    if (id != OperatorId::kDdl && id != OperatorId::kKirchhoff && id != OperatorId::kTutte) {
+      covers.insert("8.4");
+    }
+    if (std::any_of(segment.anchor_step_exponents.begin(), segment.anchor_step_exponents.end(),
+                    [](int8_t e) { return e != 0; })) {
+      covers.insert("8.5.1");
+    }
+    if (segment.header.anchor_weight != 1.0) covers.insert("10.1 anchor weight");
+    if (s < stats.size()) {
+      if (stats[s].clamped_cotangents > 0) covers.insert("9.5 clamped cotangent");
+      if (stats[s].degenerate_triangles > 0) covers.insert("9.5 degenerate corner");
+      if (stats[s].fallback_rows > 0) covers.insert("9.5 Tutte fallback");
+      if (stats[s].clamped_areas > 0) covers.insert("9.5 area floor");
+    }
+  }
+  return {covers.begin(), covers.end()};
+}
 
 // A minimal glTF binary: the content of the scene vectors (opaque to decoding, spec §6.3).
 std::vector<uint8_t> MinimalGlb() {
@@ -345,6 +493,45 @@ std::vector<ValidVector> ValidVectors() {
     vectors.back().scene = MinimalGlb();
     vectors.back().scene_payload = StoredScenePayload(vectors.back().scene);
   }
+  // Coverage of §7.3 and §9.5's guards (issue 26).
+  add("torus_ddl_topology_splits",
+      "a torus (genus 1): the edgebreaker traversal meets its handles, so the Draco buffer holds "
+      "topology split events; labels in input order",
+      Torus(16, 8, 5), Options("ddl"), ConnectivityMethod::kDracoWithVertexOrder);
+  vectors.back().topology_splits = true;
+  add("twist_label_model_2",
+      "vertex labels coded with label model 2 (neighbour-median predictor, spread contexts, no "
+      "kernel), which the encoder's choice never picks for this mesh",
+      Synth("twist", 200, 4, 13), Options("tutte"), ConnectivityMethod::kDracoWithVertexOrder);
+  vectors.back().label_model = 2;
+  // cotan: slivers clamp cotangents, the lone vertex of (0, 0, j) takes the Tutte row; mean-value:
+  // the Tutte row. (cotan-area on this sheet does not decode: the lone vertex's weights are
+  // 0 / floor, and the slivers' large ones leave N numerically indefinite.)
+  {
+    EncoderOptions options = Options("cotan");
+    options.reference_bits = 24;  // the slivers survive the reference frame's grid
+    add("degenerate_sheet_cotan",
+        "cotangent operator on a sheet with slivers (clamped cotangents), a triangle with a "
+        "repeated vertex whose lone vertex takes the Tutte row, a non-manifold edge and an "
+        "isolated vertex (indexed connectivity)",
+        DegenerateSheet(12, 6), options, ConnectivityMethod::kIndexed);
+    vectors.back().clamped_cotangents = true;
+    vectors.back().tutte_fallback_rows = true;
+  }
+  {
+    EncoderOptions options = Options("mean-value");
+    options.reference_bits = 24;
+    add("degenerate_sheet_mean_value",
+        "mean value operator on the same sheet: the repeated-vertex triangle adds nothing and its "
+        "lone vertex takes the Tutte row; the non-manifold edge and the isolated vertex",
+        DegenerateSheet(12, 6), options, ConnectivityMethod::kIndexed);
+    vectors.back().tutte_fallback_rows = true;
+  }
+  add("cloth_anchor_weight_quarter",
+      "every segment's anchor weight set to 0.25 after encoding: the normal equations weigh the "
+      "anchors less (spec §10.1)",
+      Synth("cloth", 200, 6, 14), Options("tutte"), ConnectivityMethod::kDracoWithVertexOrder);
+  vectors.back().anchor_weight = 0.25;
   return vectors;
 }
 
@@ -381,6 +568,26 @@ Status KeepOlderVersion(const fs::path& directory, const std::string& name) {
 Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
   DMC_ASSIGN_OR_RETURN(const MeshSequence sequence, vector.source.make());
   DMC_ASSIGN_OR_RETURN(std::vector<uint8_t> stream, Encode(sequence, vector.options));
+  if (vector.label_model >= 0 || vector.anchor_weight != 0.0) {
+    DMC_ASSIGN_OR_RETURN(Framed framed, SplitFramed(stream));
+    if (vector.label_model >= 0) {
+      DMC_ASSIGN_OR_RETURN(
+          const ConnectivityCode code,
+          EncodeConnectivityWithLabelModel(sequence.triangles(), sequence.vertex_count(),
+                                           static_cast<uint8_t>(vector.label_model)));
+      framed.chunks[1].payload = code.payload;
+    }
+    if (vector.anchor_weight != 0.0) {
+      DMC_ASSIGN_OR_RETURN(const ParsedStream parsed, ParseStream(stream));
+      for (size_t s = 0; s < parsed.segments.size(); ++s) {
+        format::SegmentHeader header = parsed.segments[s].header;
+        header.anchor_weight = vector.anchor_weight;
+        framed.chunks[parsed.first_segment_chunk + 6 * s].payload =
+            syntax::WriteSegmentHeader(header);
+      }
+    }
+    stream = JoinFramed(framed);
+  }
   if (!vector.scene_payload.empty()) {
     DMC_ASSIGN_OR_RETURN(stream, WithScene(stream, vector.scene_payload));
     DMC_ASSIGN_OR_RETURN(const std::vector<uint8_t> scene, DecodeScene(stream, kNoCallerLimit));
@@ -423,6 +630,36 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
       return InternalError(vector.name + ": no segment has both finer and coarser step regions");
     }
   }
+  // What the operator rebuilt from the stream had to repair (spec §9.5), and what the vector is
+  // meant to exercise.
+  DMC_ASSIGN_OR_RETURN(const ParsedStream parsed, ParseStream(stream));
+  std::vector<OperatorStats> stats;
+  for (const SegmentSyntax& segment : parsed.segments) {
+    DMC_ASSIGN_OR_RETURN(const LaplaceOperator laplace,
+                         RebuildSegmentOperator(parsed.topology, segment));
+    stats.push_back(laplace.stats);
+  }
+  const auto every_segment = [&](auto count) {
+    return std::all_of(stats.begin(), stats.end(),
+                       [&](const OperatorStats& s) { return count(s) > 0; });
+  };
+  if ((vector.clamped_cotangents && !every_segment([](auto& s) { return s.clamped_cotangents; })) ||
+      (vector.degenerate_triangles &&
+       !every_segment([](auto& s) { return s.degenerate_triangles; })) ||
+      (vector.tutte_fallback_rows && !every_segment([](auto& s) { return s.fallback_rows; })) ||
+      (vector.clamped_areas && !every_segment([](auto& s) { return s.clamped_areas; }))) {
+    return InternalError(
+        vector.name + ": the operator does not make the repairs it is meant to " +
+        "cover: clamped cotangents " + std::to_string(stats.front().clamped_cotangents) +
+        ", degenerate triangles " + std::to_string(stats.front().degenerate_triangles) +
+        ", Tutte rows " + std::to_string(stats.front().fallback_rows) + ", area floors " +
+        std::to_string(stats.front().clamped_areas) + " (first segment)");
+  }
+  if (vector.label_model >= 0 &&
+      LabelModelOf(parsed.framed.chunks[1].payload) != vector.label_model) {
+    return InternalError(vector.name + ": not coded with label model " +
+                         std::to_string(vector.label_model));
+  }
   DMC_RETURN_IF_ERROR(KeepOlderVersion(directory, vector.name));
 
   Json segments = Json::array();
@@ -450,6 +687,9 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
       {"stream_xxh64", HashHex(XXH64(stream.data(), stream.size(), 0))},
       {"source", vector.source.description},
       {"encoder_options", OptionsJson(vector.options)},
+      {"covers", Covers(parsed, info, stats)},
+      {"name", info.name},
+      {"frame_rate", info.frame_rate},
       {"vertex_count", decoded.vertex_count()},
       {"triangle_count", decoded.triangle_count()},
       {"frame_count", decoded.frame_count()},

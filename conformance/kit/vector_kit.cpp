@@ -120,6 +120,15 @@ VectorResult CheckValid(const Json& manifest, const std::filesystem::path& direc
   } else if (!scene->empty()) {
     return Fail(result, "the stream has a scene the manifest does not list");
   }
+  // The sequence header's name and frame rate (spec §6.1), when the manifest records them.
+  if (manifest.contains("name") && info->name != manifest.at("name").get<std::string>()) {
+    return Fail(result, "stream name '" + info->name + "' differs from the manifest's");
+  }
+  if (manifest.contains("frame_rate") &&
+      info->frame_rate != manifest.at("frame_rate").get<double>()) {
+    return Fail(result,
+                "frame rate " + std::to_string(info->frame_rate) + " differs from the manifest's");
+  }
   const Json& segments = manifest.at("segments");
   if (info->segments.size() != segments.size() ||
       info->reordered != manifest.at("reordered").get<bool>()) {
@@ -201,6 +210,14 @@ VectorResult CheckValid(const Json& manifest, const std::filesystem::path& direc
                   " segment(s); digests match; max error " + ratio + " D; " +
                   std::to_string(comparison.bit_exact_frames) + "/" + std::to_string(f_count) +
                   " frames bit-exact";
+  // Which spec rules the vector exercises (the generator lists them).
+  if (manifest.contains("covers")) {
+    std::string covers;
+    for (const Json& rule : manifest.at("covers")) {
+      covers += (covers.empty() ? "" : ", ") + rule.get<std::string>();
+    }
+    result.detail += "; covers §" + covers;
+  }
   return result;
 }
 

@@ -252,7 +252,10 @@ void AppendDracoBuffer(ByteWriter& writer, const std::vector<uint8_t>& buffer) {
   writer.PutBytes(buffer);
 }
 
-ConnectivityCode EncodeDracoWithVertexOrder(const DracoCoding& draco, uint8_t version_minor) {
+// `forced_model`: code the labels with this model instead of the smallest one.
+ConnectivityCode EncodeDracoWithVertexOrder(
+    const DracoCoding& draco, uint8_t version_minor,
+    std::optional<connectivity::LabelModel> forced_model = std::nullopt) {
   const connectivity::TriangleAdjacency adjacency(draco.decoded,
                                                   static_cast<int32_t>(draco.input_vertex.size()));
   const std::vector<int32_t> order = connectivity::LabelCodingOrder(adjacency);
@@ -268,10 +271,15 @@ ConnectivityCode EncodeDracoWithVertexOrder(const DracoCoding& draco, uint8_t ve
       best_model = model;
     }
   };
-  for (int wire = 0; wire < connectivity::kLabelModelCount; ++wire) {
-    try_model(connectivity::LabelModel::FromWire(static_cast<uint8_t>(wire)));
+  if (forced_model) {
+    try_model(*forced_model);
+  } else {
+    for (int wire = 0; wire < connectivity::kLabelModelCount; ++wire) {
+      try_model(connectivity::LabelModel::FromWire(static_cast<uint8_t>(wire)));
+    }
   }
-  if (connectivity::LabelModelCount(version_minor) > connectivity::kLabelModelCount) {
+  if (!forced_model &&
+      connectivity::LabelModelCount(version_minor) > connectivity::kLabelModelCount) {
     const connectivity::LabelModel base = best_model;
     for (uint8_t code = 1; code < connectivity::kKernelRadii.size(); ++code) {
       connectivity::LabelModel model = base;
@@ -344,6 +352,21 @@ StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(const Triangles& triangl
       return InvalidArgumentError("connectivity method " +
                                   std::to_string(static_cast<int>(method)) + " is unknown");
   }
+  DMC_RETURN_IF_ERROR(FinishByDecoding(triangles, vertex_count, version_minor, code));
+  return code;
+}
+
+StatusOr<ConnectivityCode> EncodeConnectivityWithLabelModel(const Triangles& triangles,
+                                                            int vertex_count, uint8_t label_model,
+                                                            uint8_t version_minor) {
+  DMC_RETURN_IF_ERROR(CheckTriangles(triangles, vertex_count));
+  if (label_model >= connectivity::LabelModelCount(version_minor)) {
+    return InvalidArgumentError("label model " + std::to_string(label_model) +
+                                " does not exist in format 1." + std::to_string(version_minor));
+  }
+  DMC_ASSIGN_OR_RETURN(const DracoCoding draco, EncodeDraco(triangles, vertex_count));
+  ConnectivityCode code = EncodeDracoWithVertexOrder(
+      draco, version_minor, connectivity::LabelModel::FromWire(label_model));
   DMC_RETURN_IF_ERROR(FinishByDecoding(triangles, vertex_count, version_minor, code));
   return code;
 }

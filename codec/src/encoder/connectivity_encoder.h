@@ -48,4 +48,11 @@ StatusOr<ConnectivityCode> EncodeConnectivityWithMethod(
     const Triangles& triangles, int vertex_count, ConnectivityCoding method,
     uint8_t version_minor = format::kVersionMinor);
 
+// Codes with kDracoWithVertexOrder and the label model of wire value `label_model` (spec §7.3)
+// instead of the smallest: conformance vectors of a given model. kInvalidArgument for a model the
+// version does not have, kUnsupported when Draco cannot reproduce the triangle set.
+StatusOr<ConnectivityCode> EncodeConnectivityWithLabelModel(
+    const Triangles& triangles, int vertex_count, uint8_t label_model,
+    uint8_t version_minor = format::kVersionMinor);
+
 }  // namespace dmc
