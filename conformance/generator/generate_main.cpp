@@ -288,6 +288,23 @@ int LabelModelOf(std::span<const uint8_t> payload) {
   return model;
 }
 
+// num_encoded_split_symbols of a method-1/2 payload's Draco buffer (after the 12 bytes of §7.3.1's
+// header and traversal type: varint vertices, varint faces, u8 attribute data, varint symbols,
+// varint split symbols; Draco 2.2), or -1.
+int64_t DracoSplitSymbols(std::span<const uint8_t> payload) {
+  ByteReader reader(payload.subspan(1));
+  uint64_t size = 0, vertices = 0, faces = 0, symbols = 0, splits = 0;
+  std::span<const uint8_t> header;
+  uint8_t attribute_data = 0;
+  if (!reader.GetVarU(&size, "n").ok() || !reader.GetBytes(12, &header, "header").ok() ||
+      !reader.GetVarU(&vertices, "vertices").ok() || !reader.GetVarU(&faces, "faces").ok() ||
+      !reader.GetU8(&attribute_data, "attribute data").ok() ||
+      !reader.GetVarU(&symbols, "symbols").ok() || !reader.GetVarU(&splits, "splits").ok()) {
+    return -1;
+  }
+  return static_cast<int64_t>(splits);
+}
+
 // Spec sections a valid stream exercises, from what it holds (the runner prints them).
 std::vector<std::string> Covers(const ParsedStream& parsed, const StreamInfo& info,
                                 const std::vector<OperatorStats>& stats) {
@@ -295,6 +312,9 @@ std::vector<std::string> Covers(const ParsedStream& parsed, const StreamInfo& in
   const uint8_t method = parsed.framed.chunks[1].payload.front();
   covers.insert(method == 0 ? "7.2" : "7.3");
   if (method != 0) covers.insert("7.3.1");
+  if (method != 0 && DracoSplitSymbols(parsed.framed.chunks[1].payload) > 0) {
+    covers.insert("D.2 split symbols");
+  }
   if (method == 1) {
     covers.insert({"7.3.2", "7.3.3"});
     if (const int model = LabelModelOf(parsed.framed.chunks[1].payload); model >= 0) {
@@ -654,6 +674,9 @@ Status GenerateValid(const ValidVector& vector, const fs::path& directory) {
         ", degenerate triangles " + std::to_string(stats.front().degenerate_triangles) +
         ", Tutte rows " + std::to_string(stats.front().fallback_rows) + ", area floors " +
         std::to_string(stats.front().clamped_areas) + " (first segment)");
+  }
+  if (vector.topology_splits && DracoSplitSymbols(parsed.framed.chunks[1].payload) <= 0) {
+    return InternalError(vector.name + ": the Draco buffer has no split symbol");
   }
   if (vector.label_model >= 0 &&
       LabelModelOf(parsed.framed.chunks[1].payload) != vector.label_model) {
