@@ -184,28 +184,33 @@ Source Torus(int n, int m, int frames) {
 // triangle is (0, 0, j) (a repeated vertex: degenerate corners, and j's unit-sum row sums to 0,
 // so it takes the Tutte row), a third triangle on an interior edge (a non-manifold edge) and an
 // isolated vertex (so the connectivity is the indexed method 0, which allows all of these).
-Source DegenerateSheet(int n, int frames) {
+// `slivers` false: evenly spaced rows; `fin` false: no third triangle on the interior edge (its
+// apex would have no Voronoi area: only an edge's first two opposite vertices are visited, §9.5).
+Source DegenerateSheet(int n, int frames, bool slivers = true, bool fin_triangle = true) {
   Json description = {{"mesh",
                        "sheet with slivers, a repeated-vertex triangle, a non-manifold "
                        "edge and an isolated vertex"},
                       {"grid", n},
-                      {"frames", frames}};
+                      {"frames", frames},
+                      {"slivers", slivers},
+                      {"non_manifold_edge", fin_triangle}};
   return {description, [=]() -> StatusOr<MeshSequence> {
             const Triangles grid = synth::GridTriangles(n, n, synth::GridDiagonals::kUniform);
             const int dangling = n * n, fin = n * n + 1, isolated = n * n + 2;
             const int centre = (n / 2) * n + n / 2;
-            Triangles triangles(grid.rows() + 2, 3);
+            Triangles triangles(grid.rows() + (fin_triangle ? 2 : 1), 3);
             triangles.topRows(grid.rows()) = grid;
             triangles.row(grid.rows()) << 0, 0, dangling;
-            triangles.row(grid.rows() + 1) << centre, centre + 1, fin;
+            if (fin_triangle) triangles.row(grid.rows() + 1) << centre, centre + 1, fin;
             MeshSequence sequence(n * n + 3, triangles, frames);
             for (int f = 0; f < frames; ++f) {
               const double phase = 2.0 * std::numbers::pi * f / 6.0;
               for (int v = 0; v < n * n; ++v) {
                 const int row = v / n;
                 const double x = static_cast<double>(v % n) / (n - 1);
-                const double y =
-                    row == 0 ? 0.0 : 1e-4 + static_cast<double>(row - 1) / (n - 2);  // a sliver row
+                const double y = !slivers   ? static_cast<double>(row) / (n - 1)
+                                 : row == 0 ? 0.0
+                                            : 1e-4 + static_cast<double>(row - 1) / (n - 2);
                 const double z = 0.05 * std::sin(3.0 * x + phase) * std::cos(2.0 * y);
                 sequence.frame(f).row(v) << static_cast<float>(x), static_cast<float>(y),
                     static_cast<float>(z);
@@ -537,6 +542,22 @@ std::vector<ValidVector> ValidVectors() {
         DegenerateSheet(12, 6), options, ConnectivityMethod::kIndexed);
     vectors.back().clamped_cotangents = true;
     vectors.back().tutte_fallback_rows = true;
+  }
+  {
+    // The sheet without slivers and without the fin (whose apex would get no Voronoi area): the
+    // repeated-vertex triangle's corners are degenerate in the areas and its lone vertex takes
+    // the area floor, with weights 0 / floor = 0, so every vertex is an anchor (N would be
+    // singular otherwise, spec §10.1).
+    EncoderOptions options = Options("cotan-area");
+    options.reference_bits = 24;
+    options.anchors = 12 * 12 + 3;
+    add("degenerate_sheet_cotan_area",
+        "area-normalised cotangent operator on a sheet whose repeated-vertex triangle has "
+        "degenerate corners in the mixed Voronoi areas and a lone vertex at the area floor, plus "
+        "an isolated vertex (indexed connectivity); every vertex an anchor",
+        DegenerateSheet(12, 6, false, false), options, ConnectivityMethod::kIndexed);
+    // The floor is reached because the lone vertex's only corners are degenerate and add no area.
+    vectors.back().clamped_areas = true;
   }
   {
     EncoderOptions options = Options("mean-value");
