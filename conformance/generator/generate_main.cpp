@@ -1148,6 +1148,60 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   connectivity_vector(
       "draco_size_past_payload", "Draco buffer size larger than the payload",
       [&](std::vector<uint8_t>& p) { p.resize(draco_start + 20); }, kTruncated);
+  // Appendix D.4: past the header check, every Draco failure is corrupt-stream. The payload
+  // rebuilt with a Draco buffer edited by `edit_draco` (n rewritten).
+  const auto with_draco = [](std::vector<uint8_t>& p,
+                             const std::function<void(std::vector<uint8_t>&)>& edit_draco) {
+    ByteReader reader(std::span<const uint8_t>(p).subspan(1));
+    uint64_t size = 0;
+    (void)reader.GetVarU(&size, "Draco buffer size");
+    const size_t start = 1 + reader.position();
+    std::vector<uint8_t> draco(p.begin() + static_cast<std::ptrdiff_t>(start),
+                               p.begin() + static_cast<std::ptrdiff_t>(start + size));
+    const std::vector<uint8_t> rest(p.begin() + static_cast<std::ptrdiff_t>(start + size), p.end());
+    edit_draco(draco);
+    ByteWriter out;
+    out.PutU8(p[0]);
+    out.PutVarU(draco.size());
+    out.PutBytes(draco);
+    out.PutBytes(rest);
+    p = out.Take();
+  };
+  connectivity_vector(
+      "draco_data_cut_after_header",
+      "Draco buffer cut 4 bytes after its checked header (n says so): the library fails, "
+      "corrupt-stream, not truncated-stream (Appendix D.4)",
+      [&](std::vector<uint8_t>& p) {
+        with_draco(p, [](std::vector<uint8_t>& d) {
+          ByteReader reader(std::span<const uint8_t>(d).subspan(12));
+          uint64_t count = 0;
+          (void)reader.GetVarU(&count, "vertices");
+          (void)reader.GetVarU(&count, "faces");
+          d.resize(12 + reader.position() + 4);
+        });
+      },
+      kCorrupt);
+  connectivity_vector(
+      "draco_vertex_count_varint_6_bytes",
+      "the Draco vertex count as a 6-byte varint (redundant 0x80 groups): dmc's header check of "
+      "§7.3.1 accepts it, the library's 5-byte limit for a 32-bit varint does not (Appendix D.4)",
+      [&](std::vector<uint8_t>& p) {
+        with_draco(p, [](std::vector<uint8_t>& d) {
+          ByteReader reader(std::span<const uint8_t>(d).subspan(12));
+          uint64_t count = 0;
+          (void)reader.GetVarU(&count, "vertices");
+          const size_t length = reader.position();
+          std::vector<uint8_t> padded;
+          uint64_t value = count;
+          for (int byte = 0; byte < 6; ++byte) {
+            padded.push_back(static_cast<uint8_t>((value & 0x7F) | (byte < 5 ? 0x80 : 0)));
+            value >>= 7;
+          }
+          d.erase(d.begin() + 12, d.begin() + 12 + static_cast<std::ptrdiff_t>(length));
+          d.insert(d.begin() + 12, padded.begin(), padded.end());
+        });
+      },
+      kCorrupt);
   const auto set_label_model = [](std::vector<uint8_t>& p, uint8_t model) {
     ByteReader reader(std::span<const uint8_t>(p).subspan(1));
     uint64_t size = 0;
