@@ -17,8 +17,14 @@ deb=$(ls "$work"/package/dmc_*.deb)
 echo "check-deb: $(basename "$deb"), $(stat -c %s "$deb") bytes"
 dpkg-deb --field "$deb" Depends
 
-debootstrap --variant=minbase bookworm "$work/root" http://deb.debian.org/debian \
-  >"$work/debootstrap.log" 2>&1 || { tail -20 "$work/debootstrap.log" >&2; fail "debootstrap failed"; }
+# A machine that cannot build the root (no network to deb.debian.org, no chroot) cannot run this
+# check: that is a skip (exit 77, ctest's SKIP_RETURN_CODE), not a failure of the package.
+if ! debootstrap --variant=minbase bookworm "$work/root" http://deb.debian.org/debian \
+  >"$work/debootstrap.log" 2>&1; then
+  tail -5 "$work/debootstrap.log" >&2
+  echo "check-deb: skipped: debootstrap could not build a Debian 12 root here" >&2
+  exit 77
+fi
 cp /etc/resolv.conf "$work/root/etc/resolv.conf"
 cp "$deb" "$work/root/tmp/"
 chroot "$work/root" /bin/sh -euc "
