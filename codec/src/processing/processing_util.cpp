@@ -60,6 +60,36 @@ double StepScale(const LaplaceOperator& laplace) {
   return count > 0 && sum > 0.0 ? sum / count : 1.0;
 }
 
+double SpectralRadiusBound(const SparseMatrixD& laplacian) {
+  Eigen::VectorXd row_sums = Eigen::VectorXd::Zero(laplacian.rows());
+  for (Eigen::Index c = 0; c < laplacian.outerSize(); ++c) {
+    for (SparseMatrixD::InnerIterator it(laplacian, c); it; ++it) {
+      row_sums[it.row()] += std::abs(it.value());
+    }
+  }
+  return row_sums.size() > 0 ? row_sums.maxCoeff() : 0.0;
+}
+
+double SpectralRadiusEstimate(const SparseMatrixD& laplacian, int iterations) {
+  const Eigen::Index n = laplacian.rows();
+  if (n == 0) return 0.0;
+  // A start with every frequency in it: alternating signs plus a slow ramp.
+  Eigen::VectorXd x(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    x[i] = (i % 2 == 0 ? 1.0 : -1.0) + 1e-3 * static_cast<double>(i) / static_cast<double>(n);
+  }
+  double radius = 0.0;
+  for (int k = 0; k < iterations; ++k) {
+    const double norm = x.norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) break;
+    x /= norm;
+    const Eigen::VectorXd y = laplacian * x;
+    radius = std::max(radius, y.norm());
+    x = y;
+  }
+  return radius;
+}
+
 Status CheckComponentsPinned(const MeshTopology& topology, std::span<const uint8_t> needs,
                              std::span<const uint8_t> pins, std::string_view pin_description) {
   std::vector<uint8_t> component_needs(topology.component_count, 0);

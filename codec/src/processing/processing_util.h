@@ -27,6 +27,11 @@ void AddToDiagonal(SparseMatrixD& matrix, std::span<const int> indices, double v
 // cotan-sym) have diagonals far from −1, so a smoothing coefficient λ is divided by s_L, the
 // mean |L_ii| over non-isolated vertices; unit-sum operators get 1. Never 0.
 double StepScale(const LaplaceOperator& laplace);
+// A bound on the spectral radius of L (Gershgorin: the largest row sum of |L_ij|, diagonal
+// included; 2 for a unit-sum operator with non-negative weights), and an estimate of the radius
+// itself by power iteration (deterministic start; a lower bound that converges to it).
+double SpectralRadiusBound(const SparseMatrixD& laplacian);
+double SpectralRadiusEstimate(const SparseMatrixD& laplacian, int iterations = 200);
 
 // Fails with kInvalidArgument unless every connected component that contains a vertex with
 // `needs[v]` also contains a vertex with `pins[v]`; the message names the component's first

@@ -83,11 +83,31 @@ StatusOr<PreparedRun> Prepare(std::string_view method, const MeshSequence& seque
   });
 }
 
+namespace {
+
+// No method returns positions that are not finite: a diverging iteration is an error.
+Status CheckFinite(std::string_view method, const Eigen::Ref<const Eigen::MatrixXd>& positions,
+                   int frame) {
+  if (positions.allFinite()) return Status::Ok();
+  return NumericalFailureError(fmt::format(
+      "{} produced positions that are not finite in frame {}: it diverged (for smoothing, lower "
+      "--lambda or use another operator)",
+      method, frame));
+}
+
+}  // namespace
+
 StatusOr<ProcessingResult> RunMethod(std::string_view method, const MeshSequence& sequence,
                                      const RunOptions& options) {
   DMC_ASSIGN_OR_RETURN(PreparedRun run, Prepare(method, sequence, options));
-  return core_internal::GuardAllocation(fmt::format("running {}", method),
-                                        [&] { return run.prepared->ApplySequence(sequence); });
+  DMC_ASSIGN_OR_RETURN(ProcessingResult result,
+                       core_internal::GuardAllocation(fmt::format("running {}", method), [&] {
+                         return run.prepared->ApplySequence(sequence);
+                       }));
+  for (int f = 0; f < result.sequence.frame_count(); ++f) {
+    DMC_RETURN_IF_ERROR(CheckFinite(method, result.sequence.frame_d(f), f));
+  }
+  return result;
 }
 
 StatusOr<FrameOutput> RunMethodOnMesh(std::string_view method, const Triangles& triangles,
@@ -99,8 +119,12 @@ StatusOr<FrameOutput> RunMethodOnMesh(std::string_view method, const Triangles& 
     return UnsupportedError(
         fmt::format("method {} processes whole sequences; use RunMethod", run.method->name));
   }
-  return core_internal::GuardAllocation(fmt::format("running {}", method),
-                                        [&] { return run.prepared->Apply(positions, 0); });
+  DMC_ASSIGN_OR_RETURN(FrameOutput output,
+                       core_internal::GuardAllocation(fmt::format("running {}", method), [&] {
+                         return run.prepared->Apply(positions, 0);
+                       }));
+  DMC_RETURN_IF_ERROR(CheckFinite(method, output.positions, 0));
+  return output;
 }
 
 }  // namespace dmc

@@ -1,8 +1,12 @@
 // Smoothing: hand-computed explicit steps, curvature flipping, Taubin's volume, implicit fairing.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "processing/processing_util.h"
 #include "processing_test_util.h"
 
 namespace dmc {
@@ -29,7 +33,7 @@ double CentreDeltaZ(const MeshSequence& mesh, const FramePositionsD& positions) 
 TEST(SmoothExplicit, OneTutteStepMatchesTheHandComputedPositions) {
   const MeshSequence bump = Bump();
   const MeshTopology topology = BuildTopology(bump.triangles(), bump.vertex_count());
-  for (double lambda : {0.5, 1.5}) {
+  for (double lambda : {0.5, 1.25}) {
     RunOptions options;
     options.operator_name = "tutte";
     options.parameters = {{"lambda", std::to_string(lambda)}, {"iterations", "1"}};
@@ -46,11 +50,12 @@ TEST(SmoothExplicit, OneTutteStepMatchesTheHandComputedPositions) {
 TEST(SmoothExplicit, LambdaAboveOneFlipsCurvature) {
   // After one step the centre sits at 1 − λ and all six neighbours at λ/6, so its new δ_z is
   // λ/6 − (1 − λ): the peak becomes a pit once λ > 6/7 — in particular for every λ > 1, where
-  // the centre overshoots the barycentre of its neighbours (thesis 3.2.2).
+  // the centre overshoots the barycentre of its neighbours (thesis 3.2.2). (Up to λ = 2/ρ: this
+  // grid's Tutte operator has spectral radius 1.537, so a λ above 1.301 is refused, below.)
   const MeshSequence bump = Bump();
   const double before = CentreDeltaZ(bump, bump.frame_d(0));
   ASSERT_LT(before, 0.0);  // a peak: δ points down
-  for (double lambda : {0.5, 0.8, 1.2, 1.5, 1.9}) {
+  for (double lambda : {0.5, 0.8, 1.1, 1.2, 1.3}) {
     RunOptions options;
     options.operator_name = "tutte";
     options.parameters = {{"lambda", std::to_string(lambda)}, {"iterations", "1"}};
@@ -67,18 +72,65 @@ TEST(SmoothExplicit, LambdaAboveOneFlipsCurvature) {
 }
 
 TEST(SmoothExplicit, NonUnitSumOperatorsUseTheScaledStep) {
-  // Kirchhoff on this grid: mean |L_ii| is the mean degree, so λ′ = λ / mean degree.
+  // Kirchhoff on this grid: the Gershgorin bound on its spectral radius is twice the largest
+  // degree, so λ′ = λ / max degree.
   const MeshSequence bump = Bump();
   const MeshTopology topology = BuildTopology(bump.triangles(), bump.vertex_count());
-  const double mean_degree = 2.0 * topology.edge_count() / topology.vertex_count;
+  int max_degree = 0;
+  for (int v = 0; v < topology.vertex_count; ++v)
+    max_degree = std::max(max_degree, topology.degree(v));
   RunOptions options;
   options.operator_name = "kirchhoff";
   options.parameters = {{"lambda", "0.6"}, {"iterations", "1"}};
   const FrameOutput output =
       MustApply(MustPrepare("smooth-explicit", bump, options), bump.frame_d(0));
-  EXPECT_NEAR(testing::MeasurementValue(output.measurements, "effective_lambda"), 0.6 / mean_degree,
+  EXPECT_NEAR(testing::MeasurementValue(output.measurements, "effective_lambda"), 0.6 / max_degree,
               1e-12);
-  EXPECT_NEAR(output.positions(24, 2), 1.0 - 0.6 / mean_degree * 6.0, 1e-12);
+  EXPECT_NEAR(output.positions(24, 2), 1.0 - 0.6 / max_degree * 6.0, 1e-12);
+}
+
+// Issue 27: with the mean |L_ii| as the scale, explicit and Taubin smoothing with cotan-sym and
+// cotan-area diverged to inf/NaN at the default λ. The step is now scaled by the spectral-radius
+// bound: at the defaults every operator contracts the highest frequency, stays finite and
+// smooths, on an irregular mesh; a λ beyond the stable range is refused, naming the largest
+// stable one.
+TEST(SmoothExplicit, DefaultsAreStableForEveryOperatorAndUnstableLambdasAreRefused) {
+  const MeshSequence grid = testing::JitteredPlanarGrid(16, 0.35);
+  FramePositionsD input = grid.frame_d(0);
+  for (int v = 0; v < grid.vertex_count(); ++v) input(v, 2) = 0.02 * std::sin(7.0 * v);
+  MeshSequence noisy(grid.vertex_count(), grid.triangles(), 0);
+  ASSERT_TRUE(noisy.AppendFrame(input.cast<float>()).ok());
+  for (const char* op : {"tutte", "kirchhoff", "cotan", "cotan-sym", "cotan-area", "mean-value"}) {
+    for (const char* method : {"smooth-explicit", "smooth-taubin"}) {
+      RunOptions options;
+      options.operator_name = op;
+      options.parameters = {{"iterations", "50"}};
+      const PreparedRun run = MustPrepare(method, noisy, options);
+      const double step = [&] {
+        const FrameOutput out = MustApply(run, noisy.frame_d(0));
+        EXPECT_TRUE(out.positions.allFinite()) << op << " " << method;
+        // The noise is damped: the operator's own roughness ‖L·z‖ falls (Taubin keeps the low
+        // frequencies, and may lift its pass band a little, so |z| itself is not the measure).
+        const SparseMatrixD& laplacian = run.laplace->matrix;
+        const double factor = std::string(method) == "smooth-explicit" ? 0.5 : 1.0;
+        EXPECT_LT((laplacian * out.positions.col(2)).norm(),
+                  factor * (laplacian * noisy.frame_d(0).col(2)).norm())
+            << op << " " << method;
+        return testing::MeasurementValue(out.measurements, "effective_lambda");
+      }();
+      // λ′ · ρ ≤ 2 for the default λ = 0.5.
+      const double radius = processing::SpectralRadiusEstimate(run.laplace->matrix);
+      EXPECT_LE(step * radius, 1.0 + 1e-9) << op << " " << method;
+    }
+    RunOptions options;
+    options.operator_name = op;
+    options.parameters = {{"lambda", "1.9"}, {"iterations", "5"}};
+    const auto refused = Prepare("smooth-explicit", noisy, options);
+    ASSERT_FALSE(refused.ok()) << op << ": lambda 1.9 accepted";
+    EXPECT_EQ(refused.status().code(), ErrorCode::kInvalidArgument);
+    EXPECT_THAT(refused.status().message(), ::testing::HasSubstr("diverges with this operator"));
+    EXPECT_THAT(refused.status().message(), ::testing::HasSubstr("use lambda <= "));
+  }
 }
 
 TEST(SmoothTaubin, KeepsVolumeWhereExplicitSmoothingShrinks) {
