@@ -233,12 +233,15 @@ StatusOr<std::unique_ptr<PreparedMethod>> PrecomputeImplicit(const ProcessingCon
 
 constexpr ParameterSpec kExplicitParameters[] = {
     {"lambda", ParameterType::kNumber, "0.5",
-     "step lambda of x' = x + lambda L x (scaled by 1/mean|L_ii| for non-unit-sum operators; > 1 "
-     "flips curvature)"},
+     "step lambda of x' = x + lambda' L x, lambda' = 2 lambda / (Gershgorin bound of L's "
+     "spectral radius): lambda itself for unit-sum operators; > 1 flips curvature; a lambda that "
+     "would diverge is refused"},
     {"iterations", ParameterType::kInteger, "10", "number of steps"},
 };
 constexpr ParameterSpec kTaubinParameters[] = {
-    {"lambda", ParameterType::kNumber, "0.5", "shrinking step lambda > 0"},
+    {"lambda", ParameterType::kNumber, "0.5",
+     "shrinking step lambda > 0 (scaled as smooth-explicit's; a pair that would diverge is "
+     "refused)"},
     {"mu", ParameterType::kNumber, "0",
      "growing step mu < -lambda; 0 derives it from --pass-band: mu = 1 / (k_PB - 1/lambda)"},
     {"pass-band", ParameterType::kNumber, "0.1",
