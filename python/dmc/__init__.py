@@ -66,6 +66,15 @@ def _with_readable_type_errors(function):
             return function(*args, **kwargs)
         except TypeError as error:
             text = str(error)
+            positional = [p.name for p in signature.parameters.values()
+                          if p.kind == p.POSITIONAL_OR_KEYWORD][:len(args)]
+            twice = [k for k in kwargs if k in positional]
+            if twice:
+                hint = (f"; a method parameter named like one of {function.__name__}()'s own "
+                        f"arguments goes in parameters={{'{twice[0]}': ...}}"
+                        if "parameters" in keywords else "")
+                raise TypeError(f"{function.__name__}() got multiple values for argument "
+                                f"'{twice[0]}'{hint}") from None
             unknown = [k for k in kwargs if k not in keywords]
             if "incompatible function arguments" not in text and not unknown:
                 raise

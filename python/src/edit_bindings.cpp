@@ -156,7 +156,8 @@ py::dict MeasurementsAndScalars(const ProcessingResult& result) {
 py::object EditBinding(const std::string& method, const py::handle& frames, const py::handle& faces,
                        const std::string& operator_name, int operator_frame,
                        const py::handle& selection, double ddl_mu, const std::string& ddl_reference,
-                       bool return_details, const py::kwargs& parameters) {
+                       bool return_details, const py::handle& parameter_dict,
+                       const py::kwargs& parameters) {
   RunOptions options;
   options.operator_name = operator_name;
   options.operator_frame = operator_frame;
@@ -167,12 +168,25 @@ py::object EditBinding(const std::string& method, const py::handle& frames, cons
   }
   options.operator_options.ddl.reference =
       ddl_reference == "cotan" ? DdlReference::kCotan : DdlReference::kTutte;
-  for (const auto& [key, value] : parameters) {
-    const std::string keyword = key.cast<std::string>();
+  // Method parameters as keywords, or in `parameters` for those named like edit()'s own
+  // arguments (morph's "frames"); both may not name the same one.
+  const auto add_parameter = [&](const py::handle& key, const py::handle& value) {
+    const std::string keyword = py::str(key).cast<std::string>();
     std::string name = keyword;
     std::replace(name.begin(), name.end(), '_', '-');
+    if (options.parameters.count(name) > 0) {
+      ThrowInvalidArgument("method parameter " + keyword + " is given twice");
+    }
     options.parameters[name] = ParameterText(keyword, value);
+  };
+  if (!parameter_dict.is_none()) {
+    if (!py::isinstance<py::dict>(parameter_dict)) {
+      ThrowInvalidArgument("parameters must be a dict of method parameters, got " +
+                           std::string(py::str(py::type::of(parameter_dict))));
+    }
+    for (const auto& [key, value] : parameter_dict.cast<py::dict>()) add_parameter(key, value);
   }
+  for (const auto& [key, value] : parameters) add_parameter(key, value);
   options.selection = SelectionFromObject(selection);
   const bool one_mesh = py::array(py::module_::import("numpy").attr("asarray")(frames)).ndim() == 2;
   MeshSequence sequence = SequenceFromArrays(frames, faces, "frames");
@@ -195,7 +209,7 @@ py::object EditBinding(const std::string& method, const py::handle& frames, cons
 }
 
 constexpr const char* kEditDoc =
-    R"(edit(method, frames, faces, *, operator="cotan", operator_frame=-1, selection=None, ddl_mu=0.0, ddl_reference="tutte", return_details=False, **parameters) -> (frames, faces)
+    R"(edit(method, frames, faces, *, operator="cotan", operator_frame=-1, selection=None, ddl_mu=0.0, ddl_reference="tutte", return_details=False, parameters=None, **method_parameters) -> (frames, faces)
 
 Runs a Laplacian processing method of the registry (dmc.methods(): editing, smoothing, ...) on a
 mesh or a whole sequence, like `dmc edit METHOD`. One Laplace operator is built for the whole
@@ -216,8 +230,11 @@ Args:
     ddl_mu, ddl_reference: Tikhonov weight and reference ("tutte" or "cotan") of DDL operators.
     return_details: also return a dict with "measurements" (list of {frame, name, value}),
         "scalar_name" and "scalars" (float64 (F, V) per-vertex output, or None).
-    **parameters: the method's own parameters (see dmc.methods()), dashes written as
+    **method_parameters: the method's own parameters (see dmc.methods()), dashes written as
         underscores: anchor_weight=2.0 for --anchor-weight. Numbers, bools and str are accepted.
+    parameters: the same as a dict, for a parameter named like one of edit()'s own arguments:
+        dmc.edit("morph", frames, faces, parameters={"frames": 21}) (a `frames=21` keyword
+        would be edit()'s frames).
 
 Returns:
     (frames, faces), or (frames, faces, details). The faces are the input's.
@@ -243,7 +260,7 @@ void RegisterEdit(py::module_& module) {
              py::arg("frames"), py::arg("faces"), py::kw_only(), py::arg("operator") = "cotan",
              py::arg("operator_frame") = -1, py::arg("selection") = py::none(),
              py::arg("ddl_mu") = 0.0, py::arg("ddl_reference") = "tutte",
-             py::arg("return_details") = false);
+             py::arg("return_details") = false, py::arg("parameters") = py::none());
   module.def("methods", &MethodTable, WithTextSignature(kMethodsDoc).c_str());
 }
 

@@ -111,6 +111,35 @@ class EditTest(unittest.TestCase):
 
 
 @support.require_cli
+class ParameterNamesTest(unittest.TestCase):
+    """morph's own "frames" parameter is edit()'s frames argument too (issue 27): it goes in
+    parameters={...}, and the keyword form says so instead of a bare TypeError."""
+
+    def setUp(self):
+        self.frames, self.faces = dmc.synth("cloth", frames=4, resolution=200)
+
+    def test_a_colliding_parameter_goes_in_the_parameters_dict(self):
+        for count in (2, 5, 9):
+            out, _ = dmc.edit("morph", self.frames, self.faces, parameters={"frames": count})
+            self.assertEqual(out.shape, (count,) + self.frames.shape[1:])
+            # t = 0 and t = 1 are the source and target frames.
+            np.testing.assert_allclose(out[0], self.frames[0], atol=1e-5)
+            np.testing.assert_allclose(out[-1], self.frames[-1], atol=1e-5)
+        # Keywords and the dict mix; one name twice is refused.
+        out, _ = dmc.edit("morph", self.frames, self.faces, parameters={"frames": 3},
+                          interpolation="linear")
+        self.assertEqual(out.shape[0], 3)
+        with self.assertRaises(dmc.InvalidArgumentError):
+            dmc.edit("morph", self.frames, self.faces, parameters={"to": 2}, to=3)
+        with self.assertRaises(dmc.InvalidArgumentError):
+            dmc.edit("morph", self.frames, self.faces, parameters=[("frames", 3)])
+
+    def test_the_keyword_form_points_to_the_dict(self):
+        with self.assertRaisesRegex(TypeError, r"multiple values for argument 'frames'.*"
+                                               r"parameters=\{'frames': \.\.\.\}"):
+            dmc.edit("morph", self.frames, self.faces, frames=5)
+
+
 class CliEqualityTest(unittest.TestCase):
     def test_edit_equals_the_cli(self):
         frames, faces = support.small_animation(frames=3, resolution=300)
