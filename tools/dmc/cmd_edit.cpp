@@ -35,6 +35,7 @@ struct EditArgs {
   int operator_frame = -1;
   double ddl_mu = 0.0;
   std::string ddl_reference = "tutte";
+  double max_cotangent = GeometricOptions().max_cotangent;
   std::string frame_format = "ply";
   GltfReadFlags gltf;
   bool json = false;
@@ -106,6 +107,7 @@ int RunEdit(const MethodInfo& method, const EditArgs& args) {
   options.operator_name = args.operator_name;
   options.operator_frame = args.operator_frame;
   options.operator_options.ddl.mu = args.ddl_mu;
+  options.operator_options.geometric.max_cotangent = args.max_cotangent;
   if (args.ddl_reference != "tutte" && args.ddl_reference != "cotan") {
     return ReportError(command,
                        InvalidArgumentError("--ddl-reference must be tutte or cotan, got '" +
@@ -243,6 +245,11 @@ Command AddMethodSubcommand(CLI::App& edit, const MethodInfo& method) {
   app->add_option("--ddl-mu", args->ddl_mu, "DDL operators: Tikhonov weight")
       ->capture_default_str();
   app->add_option("--ddl-reference", args->ddl_reference, "DDL Tikhonov reference: tutte or cotan")
+      ->capture_default_str();
+  app->add_option("--max-cotangent", args->max_cotangent,
+                  "Geometric operators: the cotangent clamp (cot 1 degree by default; a large "
+                  "value turns it off, restoring linear precision next to slivers)")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_option("--frame-format", args->frame_format,
                   "Per-frame file format when OUTPUT is a directory: obj, off or ply")

@@ -34,7 +34,8 @@ struct LaplacianArgs {
   int anchors = 100;
   double perturbation = 1e-3;
   unsigned seed = 1;
-  double alpha = 1.0;  // spacetime: the metric's time weight
+  double alpha = 1.0;                                       // spacetime: the metric's time weight
+  double max_cotangent = GeometricOptions().max_cotangent;  // geometric operators' clamp
   bool json = false;
   int depth = 0;     // bspline: octree depth, 0 = automatic
   int spectrum = 0;  // > 0: print this many smallest eigenvalues instead of the report
@@ -451,6 +452,7 @@ int RunLaplacian(const LaplacianArgs& args) {
   options.ddl.mu = args.mu;
   options.ddl.reference = args.reference == "cotan" ? DdlReference::kCotan : DdlReference::kTutte;
   options.spacetime.alpha = args.alpha;
+  options.geometric.max_cotangent = args.max_cotangent;
   options.spacetime.frame_rate = sequence->frame_rate;
   // The automatic depth is resolved here so that the report can name it.
   if (info->domain == OperatorDomain::kElement) {
@@ -611,6 +613,12 @@ Command AddLaplacianCommand(CLI::App& parent) {
                   "mean squared edge difference of the data")
       ->capture_default_str();
   app->add_option("--reference", args->reference, "DDL Tikhonov reference: tutte or cotan")
+      ->capture_default_str();
+  app->add_option("--max-cotangent", args->max_cotangent,
+                  "Geometric operators: cotangents (mean value: tan(a/2)) are clamped to this, "
+                  "cot 1 degree by default (robust next to slivers, at the cost of linear "
+                  "precision there); a large value turns the clamp off")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_option("--reference-frame", args->reference_frame,
                   "Geometric operators: frame to build from; -1 uses the mean frame")
