@@ -200,6 +200,17 @@ std::string SizeText(const SparseMatrixD& matrix) {
   return std::to_string(matrix.rows()) + "×" + std::to_string(matrix.cols());
 }
 
+// kResourceLimit when the factor the symbolic analysis sized is above the caller's bound (0: none);
+// both backends check it before any numeric work.
+Status CheckFactorSize(const std::string& what, double factor_bytes, uint64_t limit) {
+  if (limit != 0 && factor_bytes > static_cast<double>(limit)) {
+    return ResourceLimitError(what + ": its factor would take " +
+                              std::to_string(static_cast<uint64_t>(factor_bytes)) +
+                              " bytes, above the limit of " + std::to_string(limit));
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 std::string_view SolverBackendName(SolverBackend backend) {
@@ -293,12 +304,7 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
     const double factor_bytes =
         sizeof(double) *
         (symbolic->is_super ? static_cast<double>(symbolic->xsize) : impl->cholmod->cholmod().lnz);
-    if (options.max_matrix_bytes != 0 &&
-        factor_bytes > static_cast<double>(options.max_matrix_bytes)) {
-      return ResourceLimitError(
-          what + ": its factor would take " + std::to_string(static_cast<uint64_t>(factor_bytes)) +
-          " bytes, above the limit of " + std::to_string(options.max_matrix_bytes));
-    }
+    DMC_RETURN_IF_ERROR(CheckFactorSize(what, factor_bytes, options.max_matrix_bytes));
     impl->cholmod->factorize(impl->matrix);
     if (impl->cholmod->info() != Eigen::Success) {
       return NumericalFailureError(what + ": not positive definite (CHOLMOD)");
@@ -311,12 +317,7 @@ StatusOr<SparseSpdSolver> SparseSpdSolver::Factor(const SparseMatrixD& matrix,
     impl->ldlt->analyzePattern(impl->matrix);
     // Values and row indices of L, the bound CHOLMOD's branch applies to its factor's values.
     const double factor_bytes = (sizeof(double) + sizeof(int)) * impl->ldlt->FactorEntries();
-    if (options.max_matrix_bytes != 0 &&
-        factor_bytes > static_cast<double>(options.max_matrix_bytes)) {
-      return ResourceLimitError(
-          what + ": its factor would take " + std::to_string(static_cast<uint64_t>(factor_bytes)) +
-          " bytes, above the limit of " + std::to_string(options.max_matrix_bytes));
-    }
+    DMC_RETURN_IF_ERROR(CheckFactorSize(what, factor_bytes, options.max_matrix_bytes));
     impl->ldlt->factorize(impl->matrix);
     if (impl->ldlt->info() != Eigen::Success) {
       return NumericalFailureError(what + ": zero pivot (SimplicialLDLT)");
