@@ -22,6 +22,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 #include <variant>
@@ -34,6 +35,7 @@
 #include "dmc/encoder.h"
 #include "dmc/encoder_options.h"
 #include "dmc/laplace_operator.h"
+#include "dmc/operator_traits.h"
 #include "dmc/synth.h"
 #include "encoder/connectivity_encoder.h"
 #include "encoder/range_encoder.h"
@@ -279,30 +281,41 @@ struct ValidVector {
   bool topology_splits = false;
 };
 
-// The label model byte of a method-1 connectivity payload (method, varint n, n Draco bytes, the
-// byte), or -1.
-int LabelModelOf(std::span<const uint8_t> payload) {
+// Where the parts of a method-1/2 connectivity payload lie: the method byte, varint n, the n Draco
+// bytes from `draco_start`, then the rest (method 1: the label model byte and the labels).
+struct DracoPayloadParts {
+  size_t draco_start = 0;
+  size_t draco_size = 0;
+  size_t rest_start() const { return draco_start + draco_size; }
+};
+
+std::optional<DracoPayloadParts> SplitDracoPayload(std::span<const uint8_t> payload) {
+  if (payload.empty()) return std::nullopt;
   ByteReader reader(payload.subspan(1));
   uint64_t size = 0;
-  std::span<const uint8_t> draco;
-  uint8_t model = 0;
-  if (!reader.GetVarU(&size, "n").ok() || !reader.GetBytes(size, &draco, "draco").ok() ||
-      !reader.GetU8(&model, "label model").ok()) {
-    return -1;
+  if (!reader.GetVarU(&size, "Draco buffer size").ok() || size > reader.remaining()) {
+    return std::nullopt;
   }
-  return model;
+  return DracoPayloadParts{1 + reader.position(), static_cast<size_t>(size)};
+}
+
+// The label model byte of a method-1 connectivity payload, or -1.
+int LabelModelOf(std::span<const uint8_t> payload) {
+  const std::optional<DracoPayloadParts> parts = SplitDracoPayload(payload);
+  if (!parts || parts->rest_start() >= payload.size()) return -1;
+  return payload[parts->rest_start()];
 }
 
 // num_encoded_split_symbols of a method-1/2 payload's Draco buffer (after the 12 bytes of §7.3.1's
 // header and traversal type: varint vertices, varint faces, u8 attribute data, varint symbols,
 // varint split symbols; Draco 2.2), or -1.
 int64_t DracoSplitSymbols(std::span<const uint8_t> payload) {
-  ByteReader reader(payload.subspan(1));
-  uint64_t size = 0, vertices = 0, faces = 0, symbols = 0, splits = 0;
-  std::span<const uint8_t> header;
+  const std::optional<DracoPayloadParts> parts = SplitDracoPayload(payload);
+  if (!parts || parts->draco_size < 12) return -1;
+  ByteReader reader(payload.subspan(parts->draco_start + 12, parts->draco_size - 12));
+  uint64_t vertices = 0, faces = 0, symbols = 0, splits = 0;
   uint8_t attribute_data = 0;
-  if (!reader.GetVarU(&size, "n").ok() || !reader.GetBytes(12, &header, "header").ok() ||
-      !reader.GetVarU(&vertices, "vertices").ok() || !reader.GetVarU(&faces, "faces").ok() ||
+  if (!reader.GetVarU(&vertices, "vertices").ok() || !reader.GetVarU(&faces, "faces").ok() ||
       !reader.GetU8(&attribute_data, "attribute data").ok() ||
       !reader.GetVarU(&symbols, "symbols").ok() || !reader.GetVarU(&splits, "splits").ok()) {
     return -1;
@@ -334,12 +347,17 @@ std::vector<std::string> Covers(const ParsedStream& parsed, const StreamInfo& in
     const SegmentSyntax& segment = parsed.segments[s];
     covers.insert({"8.1", "8.2", "8.5", "8.6"});
     if (segment.header.rank > 0) covers.insert(info.version_minor >= 1 ? "8.3.2" : "8.3.1");
-    const auto id = static_cast<OperatorId>(segment.header.operator_id);
-    covers.insert(id == OperatorId::kDdl                                       ? "9.4"
-                  : (id == OperatorId::kKirchhoff || id == OperatorId::kTutte) ? "9.3"
-                                                                               : "9.5");
-    if (id != OperatorId::kDdl && id != OperatorId::kKirchhoff && id != OperatorId::kTutte) {
-      covers.insert("8.4");
+    // The operator's side information says which §9 section builds it (operator_traits.h).
+    switch (FindOperatorTraits(static_cast<OperatorId>(segment.header.operator_id))->side_info) {
+      case OperatorSideInfo::kEdgeWeights:
+        covers.insert("9.4");
+        break;
+      case OperatorSideInfo::kReferenceFrame:
+        covers.insert({"8.4", "9.5"});
+        break;
+      default:
+        covers.insert("9.3");
+        break;
     }
     if (std::any_of(segment.anchor_step_exponents.begin(), segment.anchor_step_exponents.end(),
                     [](int8_t e) { return e != 0; })) {
@@ -1127,12 +1145,7 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
       "connectivity_empty", "empty connectivity payload",
       [](std::vector<uint8_t>& p) { p.clear(); }, kTruncated);
   // Method 1 payload: method, varint Draco size, Draco buffer "DRACO"...
-  const size_t draco_start = [&] {
-    ByteReader reader(std::span<const uint8_t>(ddl.parsed.framed.chunks[1].payload).subspan(1));
-    uint64_t size = 0;
-    (void)reader.GetVarU(&size, "Draco buffer size");
-    return 1 + reader.position();
-  }();
+  const size_t draco_start = SplitDracoPayload(ddl.parsed.framed.chunks[1].payload)->draco_start;
   connectivity_vector(
       "draco_magic_damaged", "Draco buffer starts with 'XRACO'",
       [&](std::vector<uint8_t>& p) { p[draco_start] = 'X'; }, kCorrupt);
@@ -1152,13 +1165,11 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   // rebuilt with a Draco buffer edited by `edit_draco` (n rewritten).
   const auto with_draco = [](std::vector<uint8_t>& p,
                              const std::function<void(std::vector<uint8_t>&)>& edit_draco) {
-    ByteReader reader(std::span<const uint8_t>(p).subspan(1));
-    uint64_t size = 0;
-    (void)reader.GetVarU(&size, "Draco buffer size");
-    const size_t start = 1 + reader.position();
-    std::vector<uint8_t> draco(p.begin() + static_cast<std::ptrdiff_t>(start),
-                               p.begin() + static_cast<std::ptrdiff_t>(start + size));
-    const std::vector<uint8_t> rest(p.begin() + static_cast<std::ptrdiff_t>(start + size), p.end());
+    const DracoPayloadParts parts = SplitDracoPayload(p).value();
+    std::vector<uint8_t> draco(p.begin() + static_cast<std::ptrdiff_t>(parts.draco_start),
+                               p.begin() + static_cast<std::ptrdiff_t>(parts.rest_start()));
+    const std::vector<uint8_t> rest(p.begin() + static_cast<std::ptrdiff_t>(parts.rest_start()),
+                                    p.end());
     edit_draco(draco);
     ByteWriter out;
     out.PutU8(p[0]);
@@ -1203,10 +1214,7 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
       },
       kCorrupt);
   const auto set_label_model = [](std::vector<uint8_t>& p, uint8_t model) {
-    ByteReader reader(std::span<const uint8_t>(p).subspan(1));
-    uint64_t size = 0;
-    (void)reader.GetVarU(&size, "Draco buffer size");
-    p[1 + reader.position() + size] = model;
+    p[SplitDracoPayload(p).value().rest_start()] = model;
   };
   connectivity_vector(
       "label_model_unknown", "vertex label model byte 16 (1.1 defines 0-15)",
@@ -1225,12 +1233,7 @@ std::vector<InvalidVector> InvalidVectors(const Base& ddl, const Base& tutte, co
   }
   connectivity_vector(
       "labels_truncated", "vertex labels cut to 5 bytes",
-      [&](std::vector<uint8_t>& p) {
-        ByteReader reader(std::span<const uint8_t>(p).subspan(1));
-        uint64_t size = 0;
-        (void)reader.GetVarU(&size, "Draco buffer size");
-        p.resize(1 + reader.position() + size + 1 + 5);
-      },
+      [&](std::vector<uint8_t>& p) { p.resize(SplitDracoPayload(p).value().rest_start() + 1 + 5); },
       kTruncated);
 
   // --- Segment header.
