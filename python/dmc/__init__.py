@@ -96,12 +96,6 @@ def _with_readable_type_errors(function):
     return call
 
 
-for _name in ("decode", "edit", "encode", "encoder_options", "info", "laplacian", "methods",
-              "metrics", "operators", "read_sequence", "set_simd_variant", "simd_variant",
-              "simd_variants", "synth", "synth_names", "write_sequence"):
-    globals()[_name] = _with_readable_type_errors(globals()[_name])
-del _name
-
 __all__ = [
     "Error",
     "ErrorCode",
@@ -133,3 +127,9 @@ __all__ = [
     "write_sequence",
 ]
 __doc__ = _extension_doc
+
+# Every public function (the names of __all__ that are not classes or the version).
+for _name in __all__:
+    if callable(globals()[_name]) and not isinstance(globals()[_name], type):
+        globals()[_name] = _with_readable_type_errors(globals()[_name])
+del _name
